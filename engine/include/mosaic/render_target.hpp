@@ -1,0 +1,71 @@
+// mosaic/render_target.hpp — where a frame lands.
+//
+// Takes: a size and a sample count. Gives: the resolved RGBA8 image of the last frame and,
+// when asked for, the per-sample colour and float32 depth that the resolve read.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "mosaic/types.hpp"
+
+namespace mosaic {
+
+/// What a render target keeps besides the resolved image. Per-sample buffers cost memory
+/// bandwidth at the end of every frame, so they are written only when asked for.
+struct TargetOptions {
+  bool keep_sample_depth = false;  ///< write every sample's final depth to sample_depth()
+  bool keep_sample_color = false;  ///< write every sample's colour to sample_color()
+};
+
+/// A width × height image with 1, 4, 8 or 16 samples per pixel.
+///
+/// Each Renderer::render() call is one frame: every sample is cleared to clear_color() and
+/// clear_depth(), the draws are rasterized, and the samples are resolved with a box filter
+/// (the rounded mean) into color().
+class RenderTarget {
+ public:
+  /// Throws Error{kInvalidTargetSize} unless 1 <= width, height <= kMaxTargetSize, and
+  /// Error{kUnsupportedSampleCount} unless samples is 1, 4, 8 or 16.
+  RenderTarget(int width, int height, int samples = 1, TargetOptions options = {});
+
+  int width() const noexcept { return width_; }
+  int height() const noexcept { return height_; }
+  int samples() const noexcept { return samples_; }
+  const TargetOptions& options() const noexcept { return options_; }
+
+  /// The colour and depth every sample starts each frame with. Depth must be finite.
+  void set_clear(Rgba8 color, float depth = 1.0f);
+  Rgba8 clear_color() const noexcept { return clear_color_; }
+  float clear_depth() const noexcept { return clear_depth_; }
+
+  /// The resolved image, row-major, top row first: pixel (x, y) is color()[y * width() + x].
+  std::span<const Rgba8> color() const noexcept { return color_; }
+  Rgba8 pixel(int x, int y) const { return color_[static_cast<std::size_t>(y) * width_ + x]; }
+
+  /// Per-sample depth of the last frame, index ((y * width + x) * samples + s); empty unless
+  /// TargetOptions::keep_sample_depth.
+  std::span<const float> sample_depth() const noexcept { return sample_depth_; }
+  /// Per-sample colour of the last frame, same indexing; empty unless keep_sample_color.
+  std::span<const Rgba8> sample_color() const noexcept { return sample_color_; }
+
+  /// FNV-1a hash of the resolved image (and its size), for golden tests and --stats.
+  std::uint64_t image_hash() const noexcept;
+
+  /// Mutable access for the renderers (engine internals); not for applications.
+  std::vector<Rgba8>& color_storage() noexcept { return color_; }
+  std::vector<float>& sample_depth_storage() noexcept { return sample_depth_; }
+  std::vector<Rgba8>& sample_color_storage() noexcept { return sample_color_; }
+
+ private:
+  int width_ = 0, height_ = 0, samples_ = 1;
+  TargetOptions options_;
+  Rgba8 clear_color_{0, 0, 0, 255};
+  float clear_depth_ = 1.0f;
+  std::vector<Rgba8> color_;
+  std::vector<float> sample_depth_;
+  std::vector<Rgba8> sample_color_;
+};
+
+}  // namespace mosaic

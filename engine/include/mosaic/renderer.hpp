@@ -1,0 +1,86 @@
+// mosaic/renderer.hpp — renders a frame (a list of draws) into a RenderTarget.
+//
+// Takes: a Frame and a RenderTarget. Gives: the resolved image in the target and FrameStats.
+// The fast path is the default; Isa::kReference selects the exact scalar oracle, which every
+// fast path matches bit for bit.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "mosaic/draw.hpp"
+#include "mosaic/render_target.hpp"
+#include "mosaic/types.hpp"
+
+namespace mosaic {
+
+/// A frame: draws in submission order, and how they are shaded and ordered.
+struct Frame {
+  std::span<const Draw> draws;
+  /// SSAA: colour is evaluated at every sample instead of once per pixel (MSAA).
+  bool ssaa = false;
+  /// Painter's algorithm: every draw's depth test is turned off and its triangles are drawn
+  /// back to front, sorted (stably) by the mean depth of their vertices. It exists to show what
+  /// the z-buffer fixes: interpenetrating and cyclic triangles come out wrong.
+  bool painter = false;
+};
+
+/// Per-frame counters and timings. Counters are exact and do not depend on the thread count.
+struct FrameStats {
+  std::uint64_t triangles_in = 0;           ///< triangles submitted
+  std::uint64_t triangles_nonfinite = 0;    ///< culled: NaN or Inf coordinate
+  std::uint64_t triangles_culled_face = 0;  ///< culled: back or front face
+  std::uint64_t triangles_degenerate = 0;   ///< culled: zero area after snapping
+  std::uint64_t triangles_outside = 0;      ///< culled: outside the viewport or depth range
+  std::uint64_t triangles_clipped = 0;      ///< submitted triangles that needed clipping
+  std::uint64_t triangles_drawn = 0;        ///< triangles rasterized, after clipping and culling
+  std::uint64_t triangles_binned = 0;       ///< (triangle, tile) pairs in the bins
+  std::uint64_t blocks_hiz_rejected = 0;    ///< blocks skipped by hierarchical z
+  std::uint64_t blocks_hiz_accepted = 0;    ///< blocks where hierarchical z skipped the depth test
+  std::uint64_t samples_tested = 0;         ///< covered samples that reached the depth test
+  std::uint64_t samples_written = 0;        ///< colour writes to samples, over all triangles
+  double ms_setup = 0, ms_binning = 0, ms_raster = 0, ms_resolve = 0, ms_total = 0;
+  Isa isa = Isa::kReference;  ///< the path that rendered the frame
+  int threads = 1;            ///< worker threads used
+};
+
+/// Renderer configuration.
+struct RendererOptions {
+  int threads = 0;        ///< worker threads; 0 means every hardware thread
+  Isa isa = Isa::kAuto;   ///< kAuto picks the best SIMD path the CPU runs
+};
+
+/// The instruction sets this build and this CPU can run, best last (kReference always first).
+std::vector<Isa> available_isas();
+
+/// Renders frames. Holds worker threads and per-frame memory, so keep one alive across frames.
+/// A Renderer is not thread-safe: one render() at a time.
+class Renderer {
+ public:
+  /// Throws Error{kUnsupportedIsa} if options.isa cannot run here, and Error{kInvalidArgument}
+  /// for a negative thread count.
+  explicit Renderer(RendererOptions options = {});
+  ~Renderer();
+  Renderer(Renderer&&) noexcept;
+  Renderer& operator=(Renderer&&) noexcept;
+
+  /// Renders one frame: clear, draws, resolve. Validates every draw first and throws
+  /// Error{kIndexOutOfRange} or Error{kInvalidDraw} without touching the target.
+  FrameStats render(const Frame& frame, RenderTarget& target);
+
+  /// The path render() uses (never kAuto).
+  Isa isa() const noexcept;
+  int threads() const noexcept;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Checks a frame against a target without rendering; throws as render() would.
+void validate(const Frame& frame, const RenderTarget& target);
+
+}  // namespace mosaic

@@ -1,0 +1,66 @@
+// mosaic/types.hpp — small value types and enums shared by the whole public API.
+#pragma once
+
+#include <cstdint>
+
+namespace mosaic {
+
+/// Largest width or height of a render target, in pixels. With the 16.8 vertex format and the
+/// guard band of kGuardBandPx (front/fixed_point.hpp) this keeps every edge function in 64 bits.
+inline constexpr int kMaxTargetSize = 16384;
+
+/// An 8-bit-per-channel colour, straight (not premultiplied) alpha.
+struct Rgba8 {
+  std::uint8_t r = 0, g = 0, b = 0, a = 255;
+  friend bool operator==(const Rgba8&, const Rgba8&) = default;
+};
+
+/// Per-sample depth comparison: a sample is written when `incoming OP stored` holds.
+enum class DepthTest : std::uint8_t {
+  kLess,          ///< the default: nearer (smaller) depth wins, first writer wins ties
+  kLessEqual,     ///< nearer or equal wins, last writer wins ties
+  kGreater,       ///< for reversed-Z (clear depth to 0)
+  kGreaterEqual,  ///< reversed-Z, last writer wins ties
+  kAlways,        ///< no test: draw order decides
+};
+
+/// Which triangles are discarded before rasterization.
+enum class CullMode : std::uint8_t { kNone, kBack, kFront };
+
+/// Which winding is the front face, as the triangle appears on screen. OpenGL's default,
+/// counter-clockwise in y-up NDC, also appears counter-clockwise on screen.
+enum class FrontFace : std::uint8_t { kCounterClockwise, kClockwise };
+
+/// How a sample lying exactly on an edge is decided. Both rules make two triangles that share an
+/// edge cover each such sample exactly once.
+enum class FillRule : std::uint8_t {
+  kD3D,     ///< top-left rule: samples on a top or left edge are inside (Direct3D, Vulkan)
+  kOpenGL,  ///< as OpenGL implementations (llvmpipe) do in y-down window space: bottom or left
+};
+
+/// Where a draw's colour comes from.
+enum class ColorSource : std::uint8_t {
+  kConstant,     ///< Draw::color for every triangle
+  kPerTriangle,  ///< Draw::colors[triangle]
+  kPerVertex,    ///< Draw::colors[vertex], interpolated perspective-correctly
+};
+
+/// The coordinate space of Draw::positions.
+enum class Space : std::uint8_t {
+  kClip,    ///< homogeneous clip space: x, y in [-w, w] visible, depth z/w in [0, 1], w > 0
+  kScreen,  ///< pixels, y down, origin top-left; z is depth in [0, 1]; w must be 1 (.tris)
+};
+
+/// The instruction set the tile kernels run with.
+enum class Isa : std::uint8_t {
+  kAuto,       ///< the best the CPU supports
+  kReference,  ///< the exact scalar reference rasterizer (the oracle; slow)
+  kSse41,
+  kAvx2,
+  kAvx512,
+};
+
+/// Short lower-case name of an ISA ("auto", "reference", "sse4.1", "avx2", "avx512").
+const char* to_string(Isa isa) noexcept;
+
+}  // namespace mosaic

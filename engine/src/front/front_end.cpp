@@ -1,0 +1,144 @@
+#include "front/front_end.hpp"
+
+#include <cmath>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+namespace mosaic::front {
+
+FrontStats& FrontStats::operator+=(const FrontStats& o) {
+  in += o.in;
+  nonfinite += o.nonfinite;
+  culled_face += o.culled_face;
+  degenerate += o.degenerate;
+  outside += o.outside;
+  clipped += o.clipped;
+  drawn += o.drawn;
+  return *this;
+}
+
+void FrontStats::add_to(FrameStats& s) const {
+  s.triangles_in += in;
+  s.triangles_nonfinite += nonfinite;
+  s.triangles_culled_face += culled_face;
+  s.triangles_degenerate += degenerate;
+  s.triangles_outside += outside;
+  s.triangles_clipped += clipped;
+  s.triangles_drawn += drawn;
+}
+
+std::uint32_t triangle_count(const Draw& draw) {
+  if (!draw.indices.empty()) return static_cast<std::uint32_t>(draw.indices.size() / 3);
+  const std::size_t n = draw.positions_xyz.empty() ? draw.positions.size() : draw.positions_xyz.size();
+  return static_cast<std::uint32_t>(n / 3);
+}
+
+namespace {
+
+struct VertexFetch {
+  const Draw& draw;
+  glm::dmat4 transform;
+  double half_w, half_h;
+
+  // Fetches vertex `i` into window-homogeneous space (pixel x = X / W). Returns false when a
+  // coordinate is NaN or infinite. Double precision keeps 1e30-sized coordinates finite.
+  bool operator()(std::uint32_t i, ClipVertex& out) const {
+    glm::dvec4 p;
+    if (!draw.positions_xyz.empty()) {
+      p = transform * glm::dvec4(glm::dvec3(draw.positions_xyz[i]), 1.0);
+    } else {
+      p = glm::dvec4(draw.positions[i]);
+    }
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.w))
+      return false;
+    if (draw.space == Space::kClip) {
+      out.X = (p.x + p.w) * half_w;
+      out.Y = (p.w - p.y) * half_h;
+    } else {
+      out.X = p.x;
+      out.Y = p.y;
+    }
+    out.Z = p.z;
+    out.W = p.w;
+    if (draw.color_source == ColorSource::kPerVertex) {
+      const Rgba8 c = draw.colors[i];
+      out.color = {double(c.r), double(c.g), double(c.b), double(c.a)};
+    }
+    return true;
+  }
+};
+
+// The perspective divide. False for a vertex on the eye point (W <= 0 survives clipping only
+// there), which has no screen position.
+bool divide(const ClipVertex& c, ScreenVertex& s) {
+  if (!(c.W > 0)) return false;
+  const double q = 1.0 / c.W;
+  s.x = c.X * q;
+  s.y = c.Y * q;
+  s.z = static_cast<float>(c.Z * q);
+  s.q = q;
+  s.color = c.color;
+  return std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(q);
+}
+
+}  // namespace
+
+void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
+                   std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
+                   FrontStats& stats) {
+  const VertexFetch fetch{draw, glm::dmat4(draw.transform), width * 0.5, height * 0.5};
+  const bool per_vertex = draw.color_source == ColorSource::kPerVertex;
+  for (std::uint32_t t = begin; t < end; ++t) {
+    ++stats.in;
+    std::array<ClipVertex, 3> cv;
+    bool finite = true;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t vi = draw.indices.empty() ? 3 * t + k : draw.indices[3 * t + k];
+      finite = finite && fetch(vi, cv[k]);
+    }
+    if (!finite) {
+      ++stats.nonfinite;
+      continue;
+    }
+    Rgba8 flat = draw.color;
+    if (draw.color_source == ColorSource::kPerTriangle) flat = draw.colors[t];
+
+    ClipPolygon poly;
+    const ClipResult r = clip_triangle(cv, width, height, poly);
+    if (r == ClipResult::kCulled) {
+      ++stats.outside;
+      continue;
+    }
+    if (r == ClipResult::kInside) {
+      poly.count = 3;
+      for (int k = 0; k < 3; ++k) poly.v[k] = cv[k];
+    } else {
+      ++stats.clipped;
+    }
+    std::array<ScreenVertex, kMaxClipVertices> sv;
+    bool ok = true;
+    for (int k = 0; k < poly.count; ++k) ok = ok && divide(poly.v[k], sv[k]);
+    if (!ok) {
+      ++stats.degenerate;
+      continue;
+    }
+    // A clipped polygon is drawn as a fan around its first vertex.
+    for (int k = 1; k + 1 < poly.count; ++k) {
+      TriangleSetup ts;
+      const SetupReject why = setup_triangle({sv[0], sv[k], sv[k + 1]}, draw.state, width, height,
+                                             per_vertex, flat, ts);
+      switch (why) {
+        case SetupReject::kFace: ++stats.culled_face; continue;
+        case SetupReject::kDegenerate: ++stats.degenerate; continue;
+        case SetupReject::kOutside: ++stats.outside; continue;
+        case SetupReject::kNone: break;
+      }
+      ts.draw = draw_index;
+      ++stats.drawn;
+      out.push_back(ts);
+    }
+  }
+}
+
+}  // namespace mosaic::front

@@ -1,0 +1,134 @@
+#include "front/setup.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mosaic::front {
+namespace {
+
+// Pixel size in 16.8 units squared: converts an integer doubled area to px².
+constexpr double kUnitsPerPx = kSubpixelOne;
+
+// A plane through three values at the three (oriented) vertices, in double, rounded to float.
+Plane make_plane(const std::array<double, 3>& X, const std::array<double, 3>& Y, double area_px2,
+                 double f0, double f1, double f2) {
+  const double ddx = ((f1 - f0) * (Y[2] - Y[0]) - (f2 - f0) * (Y[1] - Y[0])) / area_px2;
+  const double ddy = ((f2 - f0) * (X[1] - X[0]) - (f1 - f0) * (X[2] - X[0])) / area_px2;
+  return {static_cast<float>(f0), static_cast<float>(ddx), static_cast<float>(ddy)};
+}
+
+bool finite(const Plane& p) {
+  return std::isfinite(p.base) && std::isfinite(p.ddx) && std::isfinite(p.ddy);
+}
+
+}  // namespace
+
+std::int32_t snap(double px) {
+  return static_cast<std::int32_t>(std::floor(px * kUnitsPerPx + 0.5));
+}
+
+Rgba8 shade(const TriangleSetup& t, float x, float y) {
+  if (t.flat) return t.color;
+  const float q = eval_plane(t.q, t.x0, t.y0, x, y);
+  std::array<std::uint8_t, kColorChannels> c{};
+  for (int ch = 0; ch < kColorChannels; ++ch)
+    c[ch] = to_unorm8(eval_plane(t.c_q[ch], t.x0, t.y0, x, y) / q);
+  return {c[0], c[1], c[2], c[3]};
+}
+
+SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state,
+                           int width, int height, bool per_vertex_color, Rgba8 flat_color,
+                           TriangleSetup& out) {
+  std::array<FixedPoint, 3> p;
+  for (int i = 0; i < 3; ++i) p[i] = {snap(v[i].x), snap(v[i].y)};
+
+  // Twice the signed area in 16.8 units². y points down, so a triangle that looks
+  // counter-clockwise on screen has a negative area here.
+  const std::int64_t area2 =
+      std::int64_t{p[1].x - p[0].x} * (p[2].y - p[0].y) -
+      std::int64_t{p[2].x - p[0].x} * (p[1].y - p[0].y);
+  if (area2 == 0) return SetupReject::kDegenerate;
+  const bool ccw_on_screen = area2 < 0;
+  const bool front = (state.front_face == FrontFace::kCounterClockwise) == ccw_on_screen;
+  if ((state.cull == CullMode::kBack && !front) || (state.cull == CullMode::kFront && front))
+    return SetupReject::kFace;
+
+  // Orient clockwise on screen (positive area) so that "inside" is E >= 0 for all three edges.
+  std::array<int, 3> idx{0, 1, 2};
+  if (area2 < 0) std::swap(idx[1], idx[2]);
+
+  for (int e = 0; e < 3; ++e) {
+    const FixedPoint a = p[idx[e]];
+    const FixedPoint b = p[idx[(e + 1) % 3]];
+    const std::int64_t dx = b.x - a.x;
+    const std::int64_t dy = b.y - a.y;
+    EdgeFunction f;
+    f.a = -dy;
+    f.b = dx;
+    f.c = std::int64_t{a.x} * b.y - std::int64_t{b.x} * a.y;
+    // Fill rule (y down, clockwise on screen): edges running up are left edges; a horizontal
+    // edge running right is a top edge, one running left a bottom edge. D3D keeps top-left,
+    // OpenGL (as llvmpipe draws in window space) keeps bottom-left. An excluded edge needs
+    // E > 0, i.e. E - 1 >= 0.
+    const bool horizontal_kept = state.fill_rule == FillRule::kD3D ? dx > 0 : dx < 0;
+    const bool included = dy < 0 || (dy == 0 && horizontal_kept);
+    if (!included) f.c -= 1;
+    out.edge[e] = f;
+  }
+
+  // Samples of pixel px lie in [px * 256, px * 256 + 240] (offsets -8..7 sixteenths), so the
+  // pixels that can hold a covered sample are floor(min / 256) .. floor(max / 256).
+  const auto [minx, maxx] = std::minmax({p[0].x, p[1].x, p[2].x});
+  const auto [miny, maxy] = std::minmax({p[0].y, p[1].y, p[2].y});
+  out.bx0 = std::max(0, minx >> kSubpixelBits);
+  out.by0 = std::max(0, miny >> kSubpixelBits);
+  out.bx1 = std::min(width, (maxx >> kSubpixelBits) + 1);
+  out.by1 = std::min(height, (maxy >> kSubpixelBits) + 1);
+  if (out.bx0 >= out.bx1 || out.by0 >= out.by1) return SetupReject::kOutside;
+
+  std::array<double, 3> X, Y, Z, Q;
+  for (int i = 0; i < 3; ++i) {
+    X[i] = p[idx[i]].x / kUnitsPerPx;
+    Y[i] = p[idx[i]].y / kUnitsPerPx;
+    Z[i] = v[idx[i]].z;
+    Q[i] = v[idx[i]].q;
+  }
+  const double area_px2 = static_cast<double>(area2 < 0 ? -area2 : area2) / (kUnitsPerPx * kUnitsPerPx);
+  out.x0 = static_cast<float>(X[0]);
+  out.y0 = static_cast<float>(Y[0]);
+  out.z = make_plane(X, Y, area_px2, Z[0], Z[1], Z[2]);
+  out.z_min = static_cast<float>(std::min({Z[0], Z[1], Z[2]}));
+  out.z_max = static_cast<float>(std::max({Z[0], Z[1], Z[2]}));
+  out.sort_depth = static_cast<float>((Z[0] + Z[1] + Z[2]) / 3.0);
+
+  out.flat = true;
+  out.color = flat_color;
+  if (per_vertex_color) {
+    const auto& c0 = v[idx[0]].color;
+    const auto& c1 = v[idx[1]].color;
+    const auto& c2 = v[idx[2]].color;
+    // Equal vertex colours need no interpolation: flat is both faster and exact.
+    if (c0 != c1 || c0 != c2) {
+      // Only ratios of q matter (colour = (c*q) / q), so normalise the largest to 1: it keeps
+      // c*q within 0..255 even when w is tiny.
+      const double qmax = std::max({Q[0], Q[1], Q[2]});
+      std::array<double, 3> qn{Q[0] / qmax, Q[1] / qmax, Q[2] / qmax};
+      out.q = make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]);
+      bool ok = finite(out.q);
+      for (int ch = 0; ch < kColorChannels; ++ch) {
+        out.c_q[ch] = make_plane(X, Y, area_px2, c0[ch] * qn[0], c1[ch] * qn[1], c2[ch] * qn[2]);
+        ok = ok && finite(out.c_q[ch]);
+      }
+      // A plane that overflows float (a sub-1/65536 px² sliver with extreme colour slopes) is
+      // shaded with its first vertex's colour instead.
+      out.flat = !ok;
+    }
+    if (out.flat) {
+      out.color = {to_unorm8(static_cast<float>(c0[0])), to_unorm8(static_cast<float>(c0[1])),
+                   to_unorm8(static_cast<float>(c0[2])), to_unorm8(static_cast<float>(c0[3]))};
+    }
+  }
+  return SetupReject::kNone;
+}
+
+}  // namespace mosaic::front

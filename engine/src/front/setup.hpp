@@ -1,0 +1,97 @@
+// front/setup.hpp — snapping and triangle setup.
+//
+// Takes: three window-space vertices (pixels, after the perspective divide) with depth, 1/w and
+// colour. Gives: a TriangleSetup — three exact integer edge functions with the fill rule folded
+// in, a pixel bounding box, and float planes for depth and colour — or nothing for a triangle
+// that is culled. Every rasterizer (reference and SIMD) consumes the same TriangleSetup, so
+// they round depth and colour identically.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "front/clip.hpp"
+#include "front/fixed_point.hpp"
+#include "mosaic/draw.hpp"
+#include "mosaic/types.hpp"
+
+namespace mosaic::front {
+
+/// A vertex after the perspective divide, before snapping.
+struct ScreenVertex {
+  double x = 0, y = 0;  ///< pixels, y down
+  float z = 0;          ///< depth in [0, 1]
+  double q = 1;         ///< 1 / w, for perspective-correct colour
+  std::array<double, kColorChannels> color{};  ///< 0..255 per channel
+};
+
+/// E(x, y) = a*x + b*y + c over 16.8 coordinates (front/fixed_point.hpp has the bit budget).
+/// A sample is inside the edge iff E >= 0: the fill rule's bias is already folded into c.
+struct EdgeFunction {
+  std::int64_t a = 0, b = 0, c = 0;
+  constexpr std::int64_t operator()(std::int64_t x, std::int64_t y) const {
+    return a * x + b * y + c;
+  }
+};
+
+/// A linear function of the pixel position, anchored at the snapped first vertex (x0, y0):
+/// value(x, y) = (base + ddx * (x - x0)) + ddy * (y - y0), evaluated in float32 in exactly this
+/// order by every rasterizer (the build disables FMA contraction).
+struct Plane {
+  float base = 0, ddx = 0, ddy = 0;
+};
+
+inline float eval_plane(const Plane& p, float x0, float y0, float x, float y) {
+  const float v = p.base + p.ddx * (x - x0);
+  return v + p.ddy * (y - y0);
+}
+
+/// Clamps like SSE's maxps / minps with the constant second: NaN becomes `lo`.
+inline float clamp_like_simd(float v, float lo, float hi) {
+  const float m = v > lo ? v : lo;
+  return m < hi ? m : hi;
+}
+
+/// Everything a rasterizer needs to know about one triangle.
+struct TriangleSetup {
+  std::array<EdgeFunction, 3> edge;
+  float x0 = 0, y0 = 0;                  ///< plane anchor: the snapped first vertex, in pixels
+  int bx0 = 0, by0 = 0, bx1 = 0, by1 = 0;  ///< pixels [bx0, bx1) × [by0, by1) that may be covered
+  Plane z;
+  float z_min = 0, z_max = 0;  ///< depth is clamped to the vertices' range
+  bool flat = true;            ///< constant colour: `color`; otherwise the planes below
+  Rgba8 color;
+  Plane q;                                  ///< 1/w, normalised so its largest vertex value is 1
+  std::array<Plane, kColorChannels> c_q;    ///< colour * q per channel
+  std::uint32_t draw = 0;                   ///< index of the draw, for its state
+  float sort_depth = 0;                     ///< mean vertex depth (painter's algorithm)
+};
+
+/// Depth of the triangle at a sample position (pixels).
+inline float sample_depth(const TriangleSetup& t, float x, float y) {
+  return clamp_like_simd(eval_plane(t.z, t.x0, t.y0, x, y), t.z_min, t.z_max);
+}
+
+/// Colour of the triangle at a shading position (pixels).
+Rgba8 shade(const TriangleSetup& t, float x, float y);
+
+/// Converts an interpolated channel value to 8 bits: clamp to [0, 255] (NaN to 0), round half up.
+inline std::uint8_t to_unorm8(float v) {
+  return static_cast<std::uint8_t>(static_cast<int>(clamp_like_simd(v, 0.0f, 255.0f) + 0.5f));
+}
+
+/// Why setup produced no triangle.
+enum class SetupReject { kNone, kFace, kDegenerate, kOutside };
+
+/// Rounds a pixel coordinate to 16.8, to nearest (half away from zero in the magnitude sense of
+/// floor(x * 256 + 0.5)). The caller guarantees |x| <= kGuardBandPx.
+std::int32_t snap(double px);
+
+/// Snaps and sets up a triangle for a width × height target.
+/// `flat_color` is used when `per_vertex_color` is false.
+SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state,
+                           int width, int height, bool per_vertex_color, Rgba8 flat_color,
+                           TriangleSetup& out);
+
+}  // namespace mosaic::front

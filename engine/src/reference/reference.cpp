@@ -1,0 +1,102 @@
+#include "reference/reference.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "front/front_end.hpp"
+#include "raster/depth_test.hpp"
+#include "raster/sample_patterns.hpp"
+#include "resolve/resolve.hpp"
+
+namespace mosaic::reference {
+
+std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int height,
+                                              FrameStats& stats) {
+  std::vector<front::TriangleSetup> tris;
+  front::FrontStats fs;
+  for (std::size_t d = 0; d < frame.draws.size(); ++d) {
+    const Draw& draw = frame.draws[d];
+    front::run_front_end(draw, static_cast<std::uint32_t>(d), 0, front::triangle_count(draw),
+                         width, height, tris, fs);
+  }
+  fs.add_to(stats);
+  if (frame.painter) {
+    std::stable_sort(tris.begin(), tris.end(),
+                     [](const front::TriangleSetup& a, const front::TriangleSetup& b) {
+                       return a.sort_depth > b.sort_depth;
+                     });
+  }
+  return tris;
+}
+
+FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* samples_out) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  FrameStats stats;
+  stats.isa = Isa::kReference;
+  stats.threads = 1;
+  const int W = target.width(), H = target.height(), S = target.samples();
+  const auto pattern = raster::sample_pattern(S);
+
+  std::vector<front::TriangleSetup> tris = setup_frame(frame, W, H, stats);
+  const auto t1 = Clock::now();
+
+  SampleBuffers buf;
+  const std::size_t n = static_cast<std::size_t>(W) * H * S;
+  buf.color.assign(n, target.clear_color());
+  buf.depth.assign(n, target.clear_depth());
+
+  for (const front::TriangleSetup& t : tris) {
+    DrawState state = frame.draws[t.draw].state;
+    if (frame.painter) {
+      state.depth_test = DepthTest::kAlways;
+      state.depth_write = false;
+    }
+    for (int py = t.by0; py < t.by1; ++py) {
+      for (int px = t.bx0; px < t.bx1; ++px) {
+        bool shaded = false;
+        Rgba8 pixel_color;
+        for (int s = 0; s < S; ++s) {
+          const raster::SampleOffset o = pattern[s];
+          const std::int64_t sx = raster::sample_x_fixed(px, o);
+          const std::int64_t sy = raster::sample_y_fixed(py, o);
+          if (t.edge[0](sx, sy) < 0 || t.edge[1](sx, sy) < 0 || t.edge[2](sx, sy) < 0) continue;
+          const float fx = raster::sample_x_px(px, o);
+          const float fy = raster::sample_y_px(py, o);
+          const float z = front::sample_depth(t, fx, fy);
+          ++stats.samples_tested;
+          const std::size_t i = (static_cast<std::size_t>(py) * W + px) * S + s;
+          if (!raster::depth_passes(state.depth_test, z, buf.depth[i])) continue;
+          if (state.depth_write) buf.depth[i] = z;
+          Rgba8 c;
+          if (frame.ssaa) {
+            c = front::shade(t, fx, fy);
+          } else {
+            // MSAA: shade once per pixel, at its centre, whether or not the centre is covered.
+            if (!shaded) pixel_color = front::shade(t, float(px) + 0.5f, float(py) + 0.5f);
+            shaded = true;
+            c = pixel_color;
+          }
+          buf.color[i] = c;
+          ++stats.samples_written;
+        }
+      }
+    }
+  }
+  const auto t2 = Clock::now();
+
+  resolve::box_resolve(buf.color, S, target.color_storage());
+  if (target.options().keep_sample_color) target.sample_color_storage() = buf.color;
+  if (target.options().keep_sample_depth) target.sample_depth_storage() = buf.depth;
+  if (samples_out) *samples_out = std::move(buf);
+  const auto t3 = Clock::now();
+
+  auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  stats.ms_setup = ms(t0, t1);
+  stats.ms_raster = ms(t1, t2);
+  stats.ms_resolve = ms(t2, t3);
+  stats.ms_total = ms(t0, t3);
+  return stats;
+}
+
+}  // namespace mosaic::reference

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs every build, test and benchmark dependency of mosaic from Debian 12 packages.
+# Idempotent: packages already present are skipped, so running it again costs a few seconds.
+# Nothing is vendored and nothing is downloaded at build time; this script is the only install step.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libtbb-dev            # oneTBB: task arena and parallel loops
+  libxsimd-dev          # xsimd: portable SIMD batches for the tile kernels
+  libglm-dev            # GLM: vectors and matrices in the public API
+  libbenchmark-dev      # Google Benchmark: bench/
+  libgtest-dev          # GoogleTest: tests/
+  libstb-dev            # stb_image_write: PNG output
+  libtinyobjloader-dev  # tinyobjloader: Wavefront OBJ input
+  libcli11-dev          # CLI11: command-line parsing
+  nlohmann-json3-dev    # nlohmann/json: --stats and report JSON
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+sudo=""
+if [ "$(id -u)" != 0 ]; then sudo="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"
