@@ -4,13 +4,25 @@
 // (coverage, hierarchical z, depth, shading) → resolve. Isa::kReference sends the whole frame to
 // the exact scalar oracle instead.
 #include <algorithm>
+#include <chrono>
+#include <functional>
 #include <string>
 #include <thread>
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
 #include "front/front_end.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/renderer.hpp"
+#include "bin/binner.hpp"
+#include "raster/tile.hpp"
 #include "reference/reference.hpp"
+#include "simd/dispatch.hpp"
 
 namespace mosaic {
 
@@ -51,12 +63,45 @@ void validate(const Frame& frame, const RenderTarget& /*target*/) {
   }
 }
 
-std::vector<Isa> available_isas() { return {Isa::kReference}; }
+std::vector<Isa> available_isas() {
+  std::vector<Isa> isas{Isa::kReference};
+  for (Isa isa : simd::runnable_isas()) isas.push_back(isa);
+  return isas;
+}
+
+namespace {
+
+/// Triangles per front-end chunk: large enough that a chunk's bookkeeping (a tile-offset table
+/// of tiles + 1 entries) is small next to its work, small enough that 100k triangles give
+/// dozens of chunks to balance over the workers.
+constexpr std::uint32_t kChunkTriangles = 2048;
+
+/// One chunk of work for the front end: triangles [begin, end) of one draw.
+struct ChunkJob {
+  std::uint32_t draw = 0, begin = 0, end = 0;
+};
+
+double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
 
 struct Renderer::Impl {
   RendererOptions options;
   Isa isa = Isa::kReference;
   int threads = 1;
+  raster::TileKernel kernel = nullptr;
+  std::unique_ptr<tbb::task_arena> arena;
+  // Per-frame memory, kept between frames so that steady-state frames do not allocate.
+  std::vector<bin::Chunk> chunks;
+  std::vector<ChunkJob> jobs;
+  std::vector<DrawState> states;
+  std::vector<std::pair<std::uint64_t, int>> tile_order;
+  tbb::enumerable_thread_specific<raster::TileScratch> scratch;
+  tbb::enumerable_thread_specific<std::vector<raster::BinRun>> runs;
+
+  FrameStats render_fast(const Frame& frame, RenderTarget& target);
 };
 
 Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
@@ -76,6 +121,10 @@ Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->threads = options.threads > 0
                        ? options.threads
                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (impl_->isa != Isa::kReference) {
+    impl_->kernel = simd::tile_kernel(impl_->isa);
+    impl_->arena = std::make_unique<tbb::task_arena>(impl_->threads);
+  }
 }
 
 Renderer::~Renderer() = default;
@@ -83,11 +132,137 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 Isa Renderer::isa() const noexcept { return impl_->isa; }
-int Renderer::threads() const noexcept { return impl_->threads; }
+int Renderer::threads() const noexcept { return impl_->isa == Isa::kReference ? 1 : impl_->threads; }
 
 FrameStats Renderer::render(const Frame& frame, RenderTarget& target) {
   validate(frame, target);
-  return reference::render(frame, target);
+  if (impl_->isa == Isa::kReference) return reference::render(frame, target);
+  return impl_->render_fast(frame, target);
+}
+
+FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  FrameStats stats;
+  stats.isa = isa;
+  stats.threads = threads;
+  const int W = target.width(), H = target.height(), S = target.samples();
+  const bin::TileGrid grid(W, H);
+
+  // Draw state per draw; the painter's algorithm turns the depth test off everywhere.
+  states.clear();
+  for (const Draw& d : frame.draws) {
+    DrawState s = d.state;
+    if (frame.painter) {
+      s.depth_test = DepthTest::kAlways;
+      s.depth_write = false;
+    }
+    states.push_back(s);
+  }
+
+  // Stage 1: front end, in parallel over chunks of triangles. The painter's algorithm needs a
+  // global sort by depth, so it sets the frame up in one chunk.
+  jobs.clear();
+  if (frame.painter) {
+    jobs.push_back({});
+  } else {
+    for (std::uint32_t d = 0; d < frame.draws.size(); ++d) {
+      const std::uint32_t n = front::triangle_count(frame.draws[d]);
+      for (std::uint32_t b = 0; b < n; b += kChunkTriangles)
+        jobs.push_back({d, b, std::min(n, b + kChunkTriangles)});
+    }
+  }
+  if (chunks.size() < jobs.size()) chunks.resize(jobs.size());
+  const std::size_t nchunks = jobs.size();
+  tbb::combinable<front::FrontStats> front_stats;
+
+  arena->execute([&] {
+    if (frame.painter) {
+      chunks[0].tris = reference::setup_frame(frame, W, H, stats);
+    } else {
+      tbb::parallel_for(std::size_t{0}, nchunks, [&](std::size_t i) {
+        const ChunkJob& j = jobs[i];
+        chunks[i].tris.clear();
+        front::run_front_end(frame.draws[j.draw], j.draw, j.begin, j.end, W, H, chunks[i].tris,
+                             front_stats.local());
+      });
+    }
+  });
+  front_stats.combine_each([&](const front::FrontStats& fs) { fs.add_to(stats); });
+  const auto t1 = Clock::now();
+
+  // Stage 2: binning, each chunk into its own tile table.
+  tbb::combinable<std::uint64_t> binned;
+  arena->execute([&] {
+    tbb::parallel_for(std::size_t{0}, nchunks, [&](std::size_t i) {
+      binned.local() += bin::bin_chunk(chunks[i], grid);
+    });
+  });
+  stats.triangles_binned = binned.combine(std::plus<>());
+  const auto t2 = Clock::now();
+
+  // Stage 3: tiles, busiest first so the longest tile starts early; one worker owns a tile
+  // from clear to resolve.
+  tile_order.clear();
+  for (int t = 0; t < grid.count(); ++t) {
+    std::uint64_t n = 0;
+    for (std::size_t c = 0; c < nchunks; ++c) n += chunks[c].offsets[t + 1] - chunks[c].offsets[t];
+    tile_order.push_back({n, t});
+  }
+  std::sort(tile_order.begin(), tile_order.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+
+  raster::TileFrame tf;
+  tf.states = states;
+  tf.samples = S;
+  tf.ssaa = frame.ssaa;
+  tf.clear_color = target.clear_color();
+  tf.clear_depth = target.clear_depth();
+  tf.width = W;
+  tf.height = H;
+  tf.image = target.color_storage().data();
+  const std::size_t nsamples = static_cast<std::size_t>(W) * H * S;
+  if (target.options().keep_sample_depth) {
+    target.sample_depth_storage().resize(nsamples);
+    tf.sample_depth = target.sample_depth_storage().data();
+  }
+  if (target.options().keep_sample_color) {
+    target.sample_color_storage().resize(nsamples);
+    tf.sample_color = target.sample_color_storage().data();
+  }
+  tbb::combinable<raster::TileStats> tile_stats;
+  arena->execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, tile_order.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          raster::TileScratch& sc = scratch.local();
+          std::vector<raster::BinRun>& bin = runs.local();
+          raster::TileStats& ts = tile_stats.local();
+          for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            const int t = tile_order[k].second;
+            bin.clear();
+            for (std::size_t c = 0; c < nchunks; ++c) {
+              const auto span = chunks[c].bin(t);
+              if (!span.empty()) bin.push_back({chunks[c].tris.data(), span});
+            }
+            kernel(tf, grid.rect(t), bin, sc, ts);
+          }
+        },
+        tbb::simple_partitioner());
+  });
+  const raster::TileStats ts = tile_stats.combine([](raster::TileStats a, const raster::TileStats& b) { return a += b; });
+  stats.blocks_hiz_rejected = ts.blocks_hiz_rejected;
+  stats.blocks_hiz_accepted = ts.blocks_hiz_accepted;
+  stats.samples_tested = ts.samples_tested;
+  stats.samples_written = ts.samples_written;
+  const auto t3 = Clock::now();
+
+  stats.ms_setup = ms_between(t0, t1);
+  stats.ms_binning = ms_between(t1, t2);
+  stats.ms_raster = ms_between(t2, t3);
+  stats.ms_resolve = static_cast<double>(ts.resolve_ns) * 1e-6;
+  stats.ms_total = ms_between(t0, t3);
+  return stats;
 }
 
 }  // namespace mosaic

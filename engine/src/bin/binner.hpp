@@ -1,0 +1,49 @@
+// bin/binner.hpp — sorting triangles into screen tiles.
+//
+// Takes: one chunk of set-up triangles (in submission order) and the tile grid. Gives: for every
+// tile, the indices of the chunk's triangles that may cover a sample in it, in submission order
+// (a CSR table: offsets per tile into one index array). Each chunk is binned by one thread into
+// its own table; tile workers read the chunks' tables in chunk order, which merges the bins in
+// submission order without copying — so the image never depends on the thread count.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "front/setup.hpp"
+#include "raster/tile.hpp"
+
+namespace mosaic::bin {
+
+/// The screen divided into raster::kTileSize tiles; the last column and row may be partial.
+struct TileGrid {
+  int width = 0, height = 0;
+  int tiles_x = 0, tiles_y = 0;
+  TileGrid() = default;
+  TileGrid(int w, int h)
+      : width(w), height(h), tiles_x((w + raster::kTileSize - 1) / raster::kTileSize),
+        tiles_y((h + raster::kTileSize - 1) / raster::kTileSize) {}
+  int count() const { return tiles_x * tiles_y; }
+  raster::TileRect rect(int tile) const;
+};
+
+/// One chunk's triangles and bins. The vectors keep their capacity from frame to frame: after
+/// the first frames, a frame allocates nothing per triangle.
+struct Chunk {
+  std::vector<front::TriangleSetup> tris;
+  std::vector<std::uint32_t> offsets;  ///< per tile: bin [offsets[t], offsets[t+1]) of indices
+  std::vector<std::uint32_t> indices;  ///< triangle indices into `tris`, grouped by tile
+  std::vector<std::uint64_t> pairs;    ///< scratch: (tile << 32 | triangle) before grouping
+
+  std::span<const std::uint32_t> bin(int tile) const {
+    return {indices.data() + offsets[tile], indices.data() + offsets[tile + 1]};
+  }
+};
+
+/// Bins `chunk.tris` into `chunk.offsets` / `chunk.indices`. A triangle whose bounding box spans
+/// several tiles goes only to the tiles that its three edges do not trivially reject.
+/// Returns the number of (triangle, tile) pairs.
+std::uint64_t bin_chunk(Chunk& chunk, const TileGrid& grid);
+
+}  // namespace mosaic::bin

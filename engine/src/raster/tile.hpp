@@ -1,0 +1,91 @@
+// raster/tile.hpp — what a tile worker takes and gives, shared by every SIMD kernel.
+//
+// Takes: one screen tile, the triangles binned to it in submission order, and the frame's
+// state. Gives: the tile's resolved pixels written into the image (and its samples, when the
+// target keeps them) and per-tile counters. A tile's sample colour and depth live in a
+// per-worker TileScratch for the whole tile, in cache, until the tile is resolved.
+#pragma once
+
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <span>
+
+#include "front/setup.hpp"
+#include "mosaic/draw.hpp"
+#include "mosaic/types.hpp"
+
+namespace mosaic::raster {
+
+/// Tile edge in pixels. 64×64 px × 4 samples × (4 B colour + 4 B depth) = 128 KiB, which stays
+/// in L2 while the tile is worked (DESIGN.md); measured against 32 and 128 in bench/.
+inline constexpr int kTileSize = 64;
+/// Block edge in pixels: 8×8 = 64 pixels, so one sample of a block is one 64-bit coverage word.
+inline constexpr int kBlockSize = 8;
+inline constexpr int kBlockPixels = kBlockSize * kBlockSize;
+inline constexpr int kBlocksPerTileSide = kTileSize / kBlockSize;
+inline constexpr int kBlocksPerTile = kBlocksPerTileSide * kBlocksPerTileSide;
+inline constexpr int kMaxSamples = 16;
+static_assert(kBlockPixels == 64, "coverage words are 64-bit: one bit per pixel of a block");
+static_assert(kTileSize % kBlockSize == 0);
+
+/// The triangles of one tile: runs of indices into per-chunk setup arrays, in submission order.
+struct BinRun {
+  const front::TriangleSetup* tris = nullptr;
+  std::span<const std::uint32_t> indices;
+};
+
+/// Frame-wide, read-only inputs of every tile.
+struct TileFrame {
+  std::span<const DrawState> states;  ///< per draw; the painter's override already applied
+  int samples = 1;
+  bool ssaa = false;
+  Rgba8 clear_color;
+  float clear_depth = 1.0f;
+  int width = 0, height = 0;
+  Rgba8* image = nullptr;          ///< resolved output, row-major, width × height
+  float* sample_depth = nullptr;   ///< optional per-sample output ((y*W+x)*S+s)
+  Rgba8* sample_color = nullptr;   ///< optional per-sample output
+};
+
+/// Counters one worker accumulates over its tiles.
+struct TileStats {
+  std::uint64_t blocks_hiz_rejected = 0, blocks_hiz_accepted = 0, samples_tested = 0,
+                samples_written = 0;
+  std::uint64_t resolve_ns = 0;  ///< time spent resolving, summed over this worker's tiles
+  TileStats& operator+=(const TileStats& o) {
+    blocks_hiz_rejected += o.blocks_hiz_rejected;
+    blocks_hiz_accepted += o.blocks_hiz_accepted;
+    samples_tested += o.samples_tested;
+    samples_written += o.samples_written;
+    resolve_ns += o.resolve_ns;
+    return *this;
+  }
+};
+
+/// A worker's tile memory, 64-byte aligned for any SIMD width. Layout of colour and depth:
+/// [block][sample][pixel of block], so one sample of one block is 64 contiguous values.
+struct TileScratch {
+  struct Free {
+    void operator()(void* p) const { std::free(p); }
+  };
+  static constexpr std::size_t kValues = std::size_t{kBlocksPerTile} * kMaxSamples * kBlockPixels;
+  std::unique_ptr<std::uint32_t[], Free> color{
+      static_cast<std::uint32_t*>(std::aligned_alloc(64, kValues * sizeof(std::uint32_t)))};
+  std::unique_ptr<float[], Free> depth{
+      static_cast<float*>(std::aligned_alloc(64, kValues * sizeof(float)))};
+  alignas(64) float zmin[kBlocksPerTile];  ///< hierarchical z: nearest depth in the block
+  alignas(64) float zmax[kBlocksPerTile];  ///< hierarchical z: farthest depth in the block
+  alignas(64) std::uint32_t resolved[kTileSize * kTileSize];  ///< the resolved tile, row-major
+};
+
+/// A tile: its origin and its size inside the image (smaller than kTileSize at the edges).
+struct TileRect {
+  int x0 = 0, y0 = 0, width = kTileSize, height = kTileSize;
+};
+
+/// One tile kernel per instruction set; see simd/dispatch.hpp.
+using TileKernel = void (*)(const TileFrame& frame, const TileRect& tile,
+                            std::span<const BinRun> bin, TileScratch& scratch, TileStats& stats);
+
+}  // namespace mosaic::raster

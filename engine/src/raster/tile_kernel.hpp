@@ -1,0 +1,376 @@
+// raster/tile_kernel.hpp — the tile rasterizer, written once and compiled per instruction set
+// (simd/kernel_*.cpp instantiate it with their own compiler flags).
+//
+// Takes: a tile, its bin and the frame state (raster/tile.hpp). Gives: the tile resolved into
+// the image. For each triangle, in submission order, it walks the 8×8-pixel blocks of the
+// triangle's bounding box inside the tile:
+//   1. trivial reject / accept of the block from the edge functions at its corners (int64);
+//   2. hierarchical z: reject the block if the triangle is entirely behind it, or skip the
+//      per-sample depth test if it is entirely in front;
+//   3. coverage: one 64-bit mask per sample, from SIMD int32 edge functions stepped from the
+//      block corner (exact: the corner value is int64, and a block whose values could leave
+//      int32 falls back to a scalar int64 loop);
+//   4. depth (float plane, the same operations as the reference) and the per-sample test;
+//   5. colour: once per pixel (MSAA) or per sample (SSAA), written where the test passed.
+// At the end the tile's samples are resolved (box filter) while they are still in cache.
+#pragma once
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+#include <xsimd/xsimd.hpp>
+
+#include "raster/sample_patterns.hpp"
+#include "raster/tile.hpp"
+#include "simd/mask.hpp"
+
+namespace mosaic::raster {
+
+template <class A>
+struct TileKernelImpl {
+  using I = xsimd::batch<std::int32_t, A>;
+  using F = xsimd::batch<float, A>;
+  using M = simd::Mask<A>;
+  static constexpr int L = static_cast<int>(I::size);
+  static constexpr int kVectors = kBlockPixels / L;  ///< vectors per sample of a block
+  static constexpr std::uint32_t kLaneBits = L == 32 ? 0xffffffffu : (1u << L) - 1;
+  static_assert(kBlockPixels % L == 0);
+
+  /// Lane l of vector v holds pixel p = v * L + l of the block: column p % 8, row p / 8.
+  static I lane_col(int v) {
+    alignas(64) std::int32_t c[L];
+    for (int l = 0; l < L; ++l) c[l] = (v * L + l) % kBlockSize;
+    return I::load_aligned(c);
+  }
+  static I lane_row(int v) {
+    alignas(64) std::int32_t r[L];
+    for (int l = 0; l < L; ++l) r[l] = (v * L + l) / kBlockSize;
+    return I::load_aligned(r);
+  }
+
+  static std::int32_t bits_of(Rgba8 c) { return std::bit_cast<std::int32_t>(c); }
+
+  // eval_plane() of front/setup.hpp, lane-wise, in the same order of operations.
+  static F plane(const front::Plane& p, float x0, float y0, F x, F y) {
+    const F v = F(p.base) + F(p.ddx) * (x - F(x0));
+    return v + F(p.ddy) * (y - F(y0));
+  }
+  // clamp_like_simd() of front/setup.hpp.
+  static F clamp(F v, float lo, float hi) {
+    const F m = xsimd::select(v > F(lo), v, F(lo));
+    return xsimd::select(m < F(hi), m, F(hi));
+  }
+  // to_unorm8() of front/setup.hpp: clamp, add one half, truncate.
+  static I unorm8(F v) { return xsimd::to_int(clamp(v, 0.0f, 255.0f) + F(0.5f)); }
+
+  // front::shade(), lane-wise: packed RGBA8 at positions (x, y).
+  static I shade(const front::TriangleSetup& t, F x, F y) {
+    if (t.flat) return I(bits_of(t.color));
+    const F q = plane(t.q, t.x0, t.y0, x, y);
+    const I r = unorm8(plane(t.c_q[0], t.x0, t.y0, x, y) / q);
+    const I g = unorm8(plane(t.c_q[1], t.x0, t.y0, x, y) / q);
+    const I b = unorm8(plane(t.c_q[2], t.x0, t.y0, x, y) / q);
+    const I a = unorm8(plane(t.c_q[3], t.x0, t.y0, x, y) / q);
+    return r | (g << 8) | (b << 16) | (a << 24);
+  }
+
+  static std::uint32_t depth_pass(DepthTest test, F z, F stored) {
+    switch (test) {
+      case DepthTest::kLess: return M::bits(z < stored);
+      case DepthTest::kLessEqual: return M::bits(z <= stored);
+      case DepthTest::kGreater: return M::bits(z > stored);
+      case DepthTest::kGreaterEqual: return M::bits(z >= stored);
+      case DepthTest::kAlways: return kLaneBits;
+    }
+    return kLaneBits;
+  }
+
+  struct Context {
+    const TileFrame& f;
+    const TileRect& tile;
+    TileScratch& sc;
+    TileStats& st;
+    std::span<const SampleOffset> pattern;
+    std::uint64_t valid[kBlocksPerTile];  ///< pixels of each block inside the image
+    I col[kVectors], row[kVectors];
+  };
+
+  static void triangle(Context& cx, const front::TriangleSetup& t) {
+    const TileFrame& f = cx.f;
+    const TileRect& tile = cx.tile;
+    const DrawState& ds = f.states[t.draw];
+    const int S = f.samples;
+
+    const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
+    const int y_lo = std::max(t.by0, tile.y0), y_hi = std::min(t.by1, tile.y0 + tile.height);
+    if (x_lo >= x_hi || y_lo >= y_hi) return;
+    const int bxb = (x_lo - tile.x0) / kBlockSize, bxe = (x_hi - tile.x0 + kBlockSize - 1) / kBlockSize;
+    const int byb = (y_lo - tile.y0) / kBlockSize, bye = (y_hi - tile.y0 + kBlockSize - 1) / kBlockSize;
+
+    // Per-triangle SIMD constants. Offsets are exact modulo 2^32: the int32 lanes wrap, and
+    // where the final value is known to fit int32 (fits32 below) the wrapped sum is exact.
+    std::int64_t a[3], b[3];
+    I eoff[3][kVectors];
+    std::int64_t soff[3][kMaxSamples];
+    for (int e = 0; e < 3; ++e) {
+      a[e] = t.edge[e].a;
+      b[e] = t.edge[e].b;
+      const I as(static_cast<std::int32_t>(a[e] * kSubpixel));
+      const I bs(static_cast<std::int32_t>(b[e] * kSubpixel));
+      for (int v = 0; v < kVectors; ++v) eoff[e][v] = as * cx.col[v] + bs * cx.row[v];
+      for (int s = 0; s < S; ++s) {
+        const SampleOffset o = cx.pattern[s];
+        soff[e][s] = a[e] * (kHalf + o.dx * kSampleOffsetScale) + b[e] * (kHalf + o.dy * kSampleOffsetScale);
+      }
+    }
+    const float tlo = t.z_min, thi = t.z_max;
+    const bool write_depth = ds.depth_write;
+
+    for (int by = byb; by < bye; ++by) {
+      for (int bx = bxb; bx < bxe; ++bx) {
+        const int blk = by * kBlocksPerTileSide + bx;
+        const std::uint64_t valid = cx.valid[blk];
+        if (!valid) continue;
+        const int px0 = tile.x0 + bx * kBlockSize, py0 = tile.y0 + by * kBlockSize;
+
+        // 1. Edge functions at the block's corner, and their extremes over the block.
+        std::int64_t eorg[3];
+        bool all_in = true, fits32 = true, outside = false;
+        for (int e = 0; e < 3; ++e) {
+          eorg[e] = a[e] * (std::int64_t{px0} * kSubpixel) + b[e] * (std::int64_t{py0} * kSubpixel) + t.edge[e].c;
+          const std::int64_t da = a[e] * kBlockSpan, db = b[e] * kBlockSpan;
+          const std::int64_t lo = eorg[e] + std::min<std::int64_t>(0, da) + std::min<std::int64_t>(0, db);
+          const std::int64_t hi = eorg[e] + std::max<std::int64_t>(0, da) + std::max<std::int64_t>(0, db);
+          outside |= hi < 0;
+          all_in &= lo >= 0;
+          fits32 &= lo >= std::numeric_limits<std::int32_t>::min() &&
+                    hi <= std::numeric_limits<std::int32_t>::max();
+        }
+        if (outside) continue;
+
+        // 2. Hierarchical z.
+        bool test = ds.depth_test != DepthTest::kAlways;
+        const float bz_min = cx.sc.zmin[blk], bz_max = cx.sc.zmax[blk];
+        switch (ds.depth_test) {
+          case DepthTest::kLess:
+            if (tlo >= bz_max) { ++cx.st.blocks_hiz_rejected; continue; }
+            test = !(thi < bz_min);
+            break;
+          case DepthTest::kLessEqual:
+            if (tlo > bz_max) { ++cx.st.blocks_hiz_rejected; continue; }
+            test = !(thi <= bz_min);
+            break;
+          case DepthTest::kGreater:
+            if (thi <= bz_min) { ++cx.st.blocks_hiz_rejected; continue; }
+            test = !(tlo > bz_max);
+            break;
+          case DepthTest::kGreaterEqual:
+            if (thi < bz_min) { ++cx.st.blocks_hiz_rejected; continue; }
+            test = !(tlo >= bz_max);
+            break;
+          case DepthTest::kAlways: break;
+        }
+        if (!test && ds.depth_test != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
+
+        // 3. Coverage, one 64-bit word per sample.
+        std::uint64_t cov[kMaxSamples];
+        std::uint64_t any = 0;
+        if (all_in) {
+          for (int s = 0; s < S; ++s) cov[s] = valid;
+          any = valid;
+        } else if (fits32) {
+          for (int s = 0; s < S; ++s) {
+            const I b0(static_cast<std::int32_t>(eorg[0] + soff[0][s]));
+            const I b1(static_cast<std::int32_t>(eorg[1] + soff[1][s]));
+            const I b2(static_cast<std::int32_t>(eorg[2] + soff[2][s]));
+            std::uint64_t m = 0;
+            for (int v = 0; v < kVectors; ++v) {
+              const I e = (b0 + eoff[0][v]) | (b1 + eoff[1][v]) | (b2 + eoff[2][v]);
+              m |= std::uint64_t{M::bits(e >= I(0))} << (v * L);
+            }
+            cov[s] = m & valid;
+            any |= cov[s];
+          }
+        } else {
+          for (int s = 0; s < S; ++s) {
+            const SampleOffset o = cx.pattern[s];
+            std::uint64_t m = 0;
+            for (int p = 0; p < kBlockPixels; ++p) {
+              const std::int64_t sx = sample_x_fixed(px0 + p % kBlockSize, o);
+              const std::int64_t sy = sample_y_fixed(py0 + p / kBlockSize, o);
+              if (t.edge[0](sx, sy) >= 0 && t.edge[1](sx, sy) >= 0 && t.edge[2](sx, sy) >= 0)
+                m |= std::uint64_t{1} << p;
+            }
+            cov[s] = m & valid;
+            any |= cov[s];
+          }
+        }
+        if (!any) continue;
+
+        // 4–5. Depth test and writes, per sample and vector of pixels.
+        float* dblk = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+        std::uint32_t* cblk = cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+        I pixel_color[kVectors];
+        std::uint32_t shaded = 0;
+        std::uint64_t tested = 0, written = 0;
+        for (int s = 0; s < S; ++s) {
+          const std::uint64_t m = cov[s];
+          if (!m) continue;
+          const SampleOffset o = cx.pattern[s];
+          const F ox(0.5f + static_cast<float>(o.dx) * (1.0f / 16.0f));
+          const F oy(0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f));
+          for (int v = 0; v < kVectors; ++v) {
+            const std::uint32_t lanes = static_cast<std::uint32_t>(m >> (v * L)) & kLaneBits;
+            if (!lanes) continue;
+            const F cxp = xsimd::to_float(I(px0) + cx.col[v]);
+            const F cyp = xsimd::to_float(I(py0) + cx.row[v]);
+            const F fx = cxp + ox, fy = cyp + oy;
+            const F z = clamp(plane(t.z, t.x0, t.y0, fx, fy), t.z_min, t.z_max);
+            float* dp = dblk + s * kBlockPixels + v * L;
+            const F stored = F::load_aligned(dp);
+            const std::uint32_t pass = test ? (lanes & depth_pass(ds.depth_test, z, stored)) : lanes;
+            tested += static_cast<std::uint64_t>(std::popcount(lanes));
+            if (!pass) continue;
+            if (write_depth) xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
+            I color;
+            if (f.ssaa) {
+              color = shade(t, fx, fy);
+            } else {
+              if (!(shaded & (1u << v))) {
+                pixel_color[v] = shade(t, cxp + F(0.5f), cyp + F(0.5f));
+                shaded |= 1u << v;
+              }
+              color = pixel_color[v];
+            }
+            std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + s * kBlockPixels + v * L);
+            xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
+            written += static_cast<std::uint64_t>(std::popcount(pass));
+          }
+        }
+        cx.st.samples_tested += tested;
+        cx.st.samples_written += written;
+
+        // Keep the block's depth bounds conservative (and exact when the triangle overwrote
+        // every sample of the block).
+        if (write_depth && written) {
+          const bool full = written == static_cast<std::uint64_t>(std::popcount(valid)) * S;
+          float& zmn = cx.sc.zmin[blk];
+          float& zmx = cx.sc.zmax[blk];
+          if (full) {
+            zmn = tlo;
+            zmx = thi;
+          } else {
+            if (ds.depth_test != DepthTest::kGreater && ds.depth_test != DepthTest::kGreaterEqual)
+              zmn = std::min(zmn, tlo);
+            if (ds.depth_test != DepthTest::kLess && ds.depth_test != DepthTest::kLessEqual)
+              zmx = std::max(zmx, thi);
+          }
+        }
+      }
+    }
+  }
+
+  static void resolve_tile(Context& cx) {
+    const TileFrame& f = cx.f;
+    const TileRect& tile = cx.tile;
+    const int S = f.samples;
+    const int shift = std::countr_zero(static_cast<unsigned>(S));
+    const I round(S / 2), byte(0xff);
+    for (int by = 0; by * kBlockSize < tile.height; ++by) {
+      for (int bx = 0; bx * kBlockSize < tile.width; ++bx) {
+        const int blk = by * kBlocksPerTileSide + bx;
+        const std::int32_t* cblk = reinterpret_cast<const std::int32_t*>(
+            cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels);
+        for (int v = 0; v < kVectors; ++v) {
+          I out;
+          if (S == 1) {
+            out = I::load_aligned(cblk + v * L);
+          } else {
+            I r(0), g(0), b(0), al(0);
+            for (int s = 0; s < S; ++s) {
+              const I c = I::load_aligned(cblk + s * kBlockPixels + v * L);
+              r += c & byte;
+              g += (c >> 8) & byte;
+              b += (c >> 16) & byte;
+              al += (c >> 24) & byte;
+            }
+            // resolve::box_mean(): (sum + S/2) / S, with S a power of two.
+            r = (r + round) >> shift;
+            g = (g + round) >> shift;
+            b = (b + round) >> shift;
+            al = (al + round) >> shift;
+            out = r | (g << 8) | (b << 16) | (al << 24);
+          }
+          alignas(64) std::int32_t lanes[L];
+          out.store_aligned(lanes);
+          for (int l = 0; l < L; ++l) {
+            const int p = v * L + l;
+            cx.sc.resolved[(by * kBlockSize + p / kBlockSize) * kTileSize + bx * kBlockSize +
+                           p % kBlockSize] = static_cast<std::uint32_t>(lanes[l]);
+          }
+        }
+      }
+    }
+    for (int y = 0; y < tile.height; ++y) {
+      std::memcpy(f.image + static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0,
+                  cx.sc.resolved + y * kTileSize, sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
+    }
+    if (f.sample_color || f.sample_depth) {
+      for (int y = 0; y < tile.height; ++y) {
+        for (int x = 0; x < tile.width; ++x) {
+          const int blk = (y / kBlockSize) * kBlocksPerTileSide + x / kBlockSize;
+          const int p = (y % kBlockSize) * kBlockSize + x % kBlockSize;
+          const std::size_t out =
+              (static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0 + x) * S;
+          for (int s = 0; s < S; ++s) {
+            const std::size_t in = (static_cast<std::size_t>(blk) * S + s) * kBlockPixels + p;
+            if (f.sample_color) std::memcpy(&f.sample_color[out + s], &cx.sc.color[in], sizeof(Rgba8));
+            if (f.sample_depth) f.sample_depth[out + s] = cx.sc.depth[in];
+          }
+        }
+      }
+    }
+  }
+
+  static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,
+                  TileScratch& sc, TileStats& st) {
+    Context cx{f, tile, sc, st, sample_pattern(f.samples), {}, {}, {}};
+    for (int v = 0; v < kVectors; ++v) {
+      cx.col[v] = lane_col(v);
+      cx.row[v] = lane_row(v);
+    }
+    // Clear the tile's samples and its hierarchical z.
+    const std::size_t n = static_cast<std::size_t>(kBlocksPerTile) * f.samples * kBlockPixels;
+    const I cc(bits_of(f.clear_color));
+    const F cd(f.clear_depth);
+    for (std::size_t i = 0; i < n; i += L) {
+      cc.store_aligned(reinterpret_cast<std::int32_t*>(sc.color.get() + i));
+      cd.store_aligned(sc.depth.get() + i);
+    }
+    for (int blk = 0; blk < kBlocksPerTile; ++blk) {
+      sc.zmin[blk] = sc.zmax[blk] = f.clear_depth;
+      const int bx = blk % kBlocksPerTileSide, by = blk / kBlocksPerTileSide;
+      const int cols = std::clamp(tile.width - bx * kBlockSize, 0, kBlockSize);
+      const int rows = std::clamp(tile.height - by * kBlockSize, 0, kBlockSize);
+      std::uint64_t m = 0;
+      for (int r = 0; r < rows; ++r) m |= ((std::uint64_t{1} << cols) - 1) << (r * kBlockSize);
+      cx.valid[blk] = m;
+    }
+    for (const BinRun& run : bin)
+      for (const std::uint32_t i : run.indices) triangle(cx, run.tris[i]);
+    const auto r0 = std::chrono::steady_clock::now();
+    resolve_tile(cx);
+    st.resolve_ns += static_cast<std::uint64_t>(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - r0).count());
+  }
+
+  static constexpr std::int64_t kSubpixel = 256;         ///< one pixel in 16.8 units
+  static constexpr std::int64_t kHalf = 128;             ///< half a pixel: the pixel centre
+  static constexpr std::int64_t kBlockSpan = kBlockSize * kSubpixel;  ///< a block's width in 16.8
+};
+
+}  // namespace mosaic::raster

@@ -1,0 +1,48 @@
+#include "simd/dispatch.hpp"
+
+namespace mosaic::simd {
+
+// Defined in kernel_*.cpp, each compiled with its own -m flags.
+void tile_kernel_sse41(const raster::TileFrame&, const raster::TileRect&,
+                       std::span<const raster::BinRun>, raster::TileScratch&, raster::TileStats&);
+void tile_kernel_avx2(const raster::TileFrame&, const raster::TileRect&,
+                      std::span<const raster::BinRun>, raster::TileScratch&, raster::TileStats&);
+void tile_kernel_avx512(const raster::TileFrame&, const raster::TileRect&,
+                        std::span<const raster::BinRun>, raster::TileScratch&, raster::TileStats&);
+
+namespace {
+
+// CPUID (and, in libgcc, XCR0 for the AVX register state) through the compiler's builtins.
+bool cpu_has(Isa isa) {
+  __builtin_cpu_init();
+  switch (isa) {
+    case Isa::kSse41: return __builtin_cpu_supports("sse4.1");
+    case Isa::kAvx2: return __builtin_cpu_supports("avx2");
+    case Isa::kAvx512:
+      return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+             __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512cd") &&
+             __builtin_cpu_supports("avx512vl");
+    default: return false;
+  }
+}
+
+}  // namespace
+
+std::vector<Isa> runnable_isas() {
+  std::vector<Isa> out;
+  for (Isa isa : {Isa::kSse41, Isa::kAvx2, Isa::kAvx512})
+    if (cpu_has(isa)) out.push_back(isa);
+  return out;
+}
+
+raster::TileKernel tile_kernel(Isa isa) {
+  if (!cpu_has(isa)) return nullptr;
+  switch (isa) {
+    case Isa::kSse41: return &tile_kernel_sse41;
+    case Isa::kAvx2: return &tile_kernel_avx2;
+    case Isa::kAvx512: return &tile_kernel_avx512;
+    default: return nullptr;
+  }
+}
+
+}  // namespace mosaic::simd

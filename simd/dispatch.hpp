@@ -1,0 +1,17 @@
+// simd/dispatch.hpp — which tile kernels this build has, which this CPU runs, and picking one.
+#pragma once
+
+#include <vector>
+
+#include "mosaic/types.hpp"
+#include "raster/tile.hpp"
+
+namespace mosaic::simd {
+
+/// SIMD instruction sets this build compiled kernels for and this CPU can run, worst first.
+std::vector<Isa> runnable_isas();
+
+/// The tile kernel for `isa` (one of runnable_isas()), or nullptr.
+raster::TileKernel tile_kernel(Isa isa);
+
+}  // namespace mosaic::simd

@@ -1,0 +1,76 @@
+// simd/mask.hpp — lane masks as integers, for each instruction set mosaic compiles.
+//
+// xsimd 8 has no portable batch_bool <-> bit-mask conversion, so this is where the
+// instructions are named: movmskps on SSE and AVX2, k-registers on AVX-512. Lane i is bit i.
+#pragma once
+
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+namespace mosaic::simd {
+
+template <class A>
+struct Mask;
+
+#if XSIMD_WITH_AVX512BW
+template <>
+struct Mask<xsimd::avx512bw> {
+  using A = xsimd::avx512bw;
+  static std::uint32_t bits(const xsimd::batch_bool<std::int32_t, A>& m) {
+    return static_cast<__mmask16>(m);
+  }
+  static std::uint32_t bits(const xsimd::batch_bool<float, A>& m) {
+    return static_cast<__mmask16>(m);
+  }
+  static xsimd::batch_bool<std::int32_t, A> ints(std::uint32_t b) {
+    return xsimd::batch_bool<std::int32_t, A>(static_cast<__mmask16>(b));
+  }
+  static xsimd::batch_bool<float, A> floats(std::uint32_t b) {
+    return xsimd::batch_bool<float, A>(static_cast<__mmask16>(b));
+  }
+};
+#endif
+
+#if XSIMD_WITH_AVX2
+template <>
+struct Mask<xsimd::avx2> {
+  using A = xsimd::avx2;
+  static std::uint32_t bits(const xsimd::batch_bool<std::int32_t, A>& m) {
+    return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_castsi256_ps(m)));
+  }
+  static std::uint32_t bits(const xsimd::batch_bool<float, A>& m) {
+    return static_cast<std::uint32_t>(_mm256_movemask_ps(m));
+  }
+  static __m256i expand(std::uint32_t b) {
+    const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(b)), lane_bit),
+                              lane_bit);
+  }
+  static xsimd::batch_bool<std::int32_t, A> ints(std::uint32_t b) { return expand(b); }
+  static xsimd::batch_bool<float, A> floats(std::uint32_t b) {
+    return _mm256_castsi256_ps(expand(b));
+  }
+};
+#endif
+
+#if XSIMD_WITH_SSE4_1
+template <>
+struct Mask<xsimd::sse4_1> {
+  using A = xsimd::sse4_1;
+  static std::uint32_t bits(const xsimd::batch_bool<std::int32_t, A>& m) {
+    return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(m)));
+  }
+  static std::uint32_t bits(const xsimd::batch_bool<float, A>& m) {
+    return static_cast<std::uint32_t>(_mm_movemask_ps(m));
+  }
+  static __m128i expand(std::uint32_t b) {
+    const __m128i lane_bit = _mm_setr_epi32(1, 2, 4, 8);
+    return _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(static_cast<int>(b)), lane_bit), lane_bit);
+  }
+  static xsimd::batch_bool<std::int32_t, A> ints(std::uint32_t b) { return expand(b); }
+  static xsimd::batch_bool<float, A> floats(std::uint32_t b) { return _mm_castsi128_ps(expand(b)); }
+};
+#endif
+
+}  // namespace mosaic::simd
