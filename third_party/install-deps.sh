@@ -15,6 +15,10 @@ packages=(
   libtinyobjloader-dev  # tinyobjloader: Wavefront OBJ input
   libcli11-dev          # CLI11: command-line parsing
   nlohmann-json3-dev    # nlohmann/json: --stats and report JSON
+  libegl-dev            # EGL headers: the llvmpipe peer (bench/peers/llvmpipe) runs surfaceless
+  libegl-mesa0          # Mesa's EGL vendor library: EGL_MESA_platform_surfaceless
+  libgl1-mesa-dri       # Mesa's gallium drivers, llvmpipe among them
+  libgl-dev             # OpenGL headers (GL/glcorearb.h) and libOpenGL
 )
 
 missing=()
