@@ -1,0 +1,306 @@
+// mosaic-peers — mosaic side by side with Mesa's llvmpipe, in one process, on the same scenes.
+//
+// Takes: built-in scene names (exported to .tris and read back, so that both renderers draw the
+// very same file), any .tris files, sample counts, thread counts. Gives: a markdown table of
+// median frame times (each frame clear → resolved image, llvmpipe and mosaic alternating
+// A B A B), their ratio, and how much the two images differ; a second table of covered-sample
+// counts (OpenGL fill rule, depth test off: GL_SAMPLES_PASSED against samples_written); and,
+// with --json, all of it with every frame time. Exits 1 if a covered-sample count differs.
+//
+// llvmpipe reads LP_NUM_THREADS when its EGL display is initialised, so the thread count is the
+// outer loop: one llvmpipe context (and one mosaic::Renderer) per thread count, in turn.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "llvmpipe/llvmpipe_peer.hpp"
+#include "mosaic/mosaic.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using mosaic::Rgba8;
+using mosaic::peers::LlvmpipeContext;
+using mosaic::peers::LlvmpipeScene;
+
+// Untimed frames first: llvmpipe compiles its shaders and fragment pipeline at the first draws,
+// and mosaic's worker threads and per-frame memory settle.
+constexpr int kDefaultWarmup = 3;
+// The issue asks for the median of at least ten timed frames.
+constexpr int kMinFrames = 10;
+
+struct SceneEntry {
+  std::string name;
+  fs::path file;
+  mosaic::Scene scene;
+};
+
+struct ImageDiff {
+  std::size_t pixels = 0;  ///< pixels where any channel differs
+  int max_channel = 0;     ///< largest absolute difference of one channel
+};
+
+ImageDiff compare_images(const std::vector<Rgba8>& a, std::span<const Rgba8> b) {
+  ImageDiff d;
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    const int diffs[4] = {std::abs(a[i].r - b[i].r), std::abs(a[i].g - b[i].g),
+                          std::abs(a[i].b - b[i].b), std::abs(a[i].a - b[i].a)};
+    const int m = *std::max_element(diffs, diffs + 4);
+    if (m > 0) ++d.pixels;
+    d.max_channel = std::max(d.max_channel, m);
+  }
+  return d;
+}
+
+mosaic::Scene with_fill_rule(mosaic::Scene s, mosaic::FillRule rule) {
+  s.for_each_state([&](mosaic::DrawState& st) { st.fill_rule = rule; });
+  return s;
+}
+
+// The scene as the coverage count needs it: OpenGL's fill rule, no depth test, no depth writes.
+mosaic::Scene for_counting(mosaic::Scene s) {
+  s.for_each_state([](mosaic::DrawState& st) {
+    st.fill_rule = mosaic::FillRule::kOpenGL;
+    st.depth_test = mosaic::DepthTest::kAlways;
+    st.depth_write = false;
+  });
+  return s;
+}
+
+mosaic::RenderTarget make_target(const mosaic::Scene& s, int samples) {
+  mosaic::RenderTarget t(s.width, s.height, samples);
+  t.set_clear(s.clear_color, s.clear_depth);
+  return t;
+}
+
+void write_pair(const fs::path& dir, const std::string& stem, const std::vector<Rgba8>& gl,
+                const mosaic::RenderTarget& mosaic_target) {
+  mosaic::RenderTarget gl_target(mosaic_target.width(), mosaic_target.height(), 1);
+  gl_target.color_storage().assign(gl.begin(), gl.end());
+  mosaic::write_image(gl_target, dir / (stem + "-llvmpipe.png"));
+  mosaic::write_image(mosaic_target, dir / (stem + "-mosaic.png"));
+}
+
+std::vector<std::string> split(const std::string& list) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    if (comma > start) out.push_back(list.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Time mosaic against Mesa llvmpipe on the same scenes, compare images and coverage"};
+  std::vector<std::string> files;
+  std::string scene_list = "all", size = "1920x1080", json_path, out_dir, images_dir;
+  std::string fill_rule = "gl", isa_name = "auto";
+  std::vector<int> samples_list{1, 4}, threads_list{1, 2};
+  int frames = kMinFrames, warmup = kDefaultWarmup;
+  app.add_option("files", files, ".tris files to add to the built-in scenes")
+      ->check(CLI::ExistingFile);
+  app.add_option("--scenes", scene_list,
+                 "built-in scenes, comma-separated, 'all' or 'none' (default all)");
+  app.add_option("--size", size, "size of the built-in scenes, WxH (default 1920x1080)");
+  app.add_option("--samples", samples_list, "sample counts (default 1 4)")
+      ->check(CLI::IsMember({1, 4}))
+      ->delimiter(',');
+  app.add_option("--threads", threads_list, "thread counts, both renderers (default 1 2)")
+      ->check(CLI::Range(1, 256))
+      ->delimiter(',');
+  app.add_option("--frames", frames, "timed frames per renderer; the median is reported (>= 10)")
+      ->check(CLI::Range(kMinFrames, 100000));
+  app.add_option("--warmup", warmup, "untimed frames per renderer first (default 3)")
+      ->check(CLI::Range(0, 100000));
+  app.add_option("--fill-rule", fill_rule, "mosaic's fill rule for the timed frames (default gl)")
+      ->check(CLI::IsMember({"gl", "d3d"}));
+  app.add_option("--isa", isa_name, "mosaic's instruction set (default auto)");
+  app.add_option("--json", json_path, "write every result and frame time as JSON");
+  app.add_option("--out", out_dir, "keep the exported .tris files here (default: a temp folder)");
+  app.add_option("--images", images_dir, "write both renderers' images here as PNG");
+  CLI11_PARSE(app, argc, argv);
+
+  const fs::path tris_dir =
+      out_dir.empty() ? fs::temp_directory_path() / ("mosaic-peers-" + std::to_string(getpid()))
+                      : fs::path(out_dir);
+  int status = 0;
+  try {
+    int width = 0, height = 0;
+    if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2)
+      throw mosaic::Error(mosaic::Errc::kInvalidArgument, "--size must be WxH, e.g. 1920x1080");
+    mosaic::Isa isa = mosaic::Isa::kAuto;
+    bool isa_known = isa_name == "auto";
+    for (mosaic::Isa i : mosaic::available_isas()) {
+      if (isa_name == mosaic::to_string(i)) {
+        isa = i;
+        isa_known = true;
+      }
+    }
+    if (!isa_known)
+      throw mosaic::Error(mosaic::Errc::kUnsupportedIsa, "--isa " + isa_name + " is not available");
+    const mosaic::FillRule rule =
+        fill_rule == "gl" ? mosaic::FillRule::kOpenGL : mosaic::FillRule::kD3D;
+
+    // Built-in scenes go through .tris and back: both renderers then draw exactly the file.
+    std::vector<SceneEntry> scenes;
+    std::vector<std::string> names = scene_list == "all"    ? mosaic::builtin_scene_names()
+                                     : scene_list == "none" ? std::vector<std::string>{}
+                                                            : split(scene_list);
+    if (!names.empty()) fs::create_directories(tris_dir);
+    for (const std::string& name : names) {
+      const fs::path file = tris_dir / (name + ".tris");
+      mosaic::save_tris(mosaic::builtin_scene(name, width, height), file);
+      scenes.push_back({name, file, mosaic::load_tris(file)});
+    }
+    for (const std::string& f : files)
+      scenes.push_back({fs::path(f).stem().string(), f, mosaic::load_tris(f)});
+    if (scenes.empty()) throw mosaic::Error(mosaic::Errc::kInvalidArgument, "no scenes to run");
+    if (!images_dir.empty()) fs::create_directories(images_dir);
+
+    nlohmann::json json;
+    json["frames"] = frames;
+    json["warmup"] = warmup;
+    json["fill_rule"] = fill_rule;
+    json["results"] = nlohmann::json::array();
+    json["coverage"] = nlohmann::json::array();
+    std::string table =
+        "| scene | samples | threads | llvmpipe ms | mosaic ms | llvmpipe/mosaic | differing "
+        "pixels | max channel diff |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    std::string coverage =
+        "| scene | samples | llvmpipe GL_SAMPLES_PASSED | mosaic samples_written | equal | "
+        "differing pixels | max channel diff |\n|---|---:|---:|---:|---|---:|---:|\n";
+    using Clock = std::chrono::steady_clock;
+
+    for (std::size_t ti = 0; ti < threads_list.size(); ++ti) {
+      const int threads = threads_list[ti];
+      LlvmpipeContext context(threads);
+      mosaic::Renderer renderer(mosaic::RendererOptions{.threads = threads, .isa = isa});
+      std::printf("threads %d: %s, %s; llvmpipe rasterizer threads %d; mosaic %s\n", threads,
+                  context.renderer().c_str(), context.version().c_str(),
+                  context.rasterizer_threads(), mosaic::to_string(renderer.isa()));
+      std::fflush(stdout);
+      json["llvmpipe"]["renderer"] = context.renderer();
+      json["llvmpipe"]["version"] = context.version();
+      json["mosaic"]["isa"] = mosaic::to_string(renderer.isa());
+
+      for (const SceneEntry& entry : scenes) {
+        const mosaic::Scene scene = with_fill_rule(entry.scene, rule);
+        const std::vector<mosaic::Draw> draws = scene.draws();
+        for (const int samples : samples_list) {
+          LlvmpipeScene gl(context, scene, samples);
+          mosaic::RenderTarget target = make_target(scene, samples);
+          const mosaic::Frame frame{.draws = draws};
+          auto mosaic_frame = [&] {
+            const auto t0 = Clock::now();
+            renderer.render(frame, target);
+            return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+          };
+          for (int i = 0; i < warmup; ++i) {
+            gl.render_frame();
+            mosaic_frame();
+          }
+          std::vector<double> gl_ms, mosaic_ms;
+          for (int i = 0; i < frames; ++i) {  // A B A B: both see the same machine state
+            gl_ms.push_back(gl.render_frame());
+            mosaic_ms.push_back(mosaic_frame());
+          }
+          const std::vector<Rgba8> gl_image = gl.read_image();
+          const ImageDiff d = compare_images(gl_image, target.color());
+          const double gl_median = mosaic::peers::median(gl_ms);
+          const double mosaic_median = mosaic::peers::median(mosaic_ms);
+          char row[256];
+          std::snprintf(row, sizeof row, "| %s | %d | %d | %.2f | %.2f | %.2f | %zu | %d |\n",
+                        entry.name.c_str(), samples, threads, gl_median, mosaic_median,
+                        gl_median / mosaic_median, d.pixels, d.max_channel);
+          table += row;
+          std::printf("%s", row);
+          std::fflush(stdout);
+          json["results"].push_back({{"scene", entry.name},
+                                     {"file", entry.file.string()},
+                                     {"width", scene.width},
+                                     {"height", scene.height},
+                                     {"triangles", scene.triangle_count()},
+                                     {"samples", samples},
+                                     {"threads", threads},
+                                     {"llvmpipe_rasterizer_threads", context.rasterizer_threads()},
+                                     {"llvmpipe_ms", gl_median},
+                                     {"mosaic_ms", mosaic_median},
+                                     {"ratio_llvmpipe_over_mosaic", gl_median / mosaic_median},
+                                     {"llvmpipe_frames_ms", gl_ms},
+                                     {"mosaic_frames_ms", mosaic_ms},
+                                     {"differing_pixels", d.pixels},
+                                     {"max_channel_difference", d.max_channel}});
+          if (ti == 0 && !images_dir.empty())
+            write_pair(images_dir, entry.name + "-" + std::to_string(samples) + "x", gl_image,
+                       target);
+        }
+
+        // Coverage does not depend on the thread count (both renderers promise it): once.
+        if (ti != 0) continue;
+        const mosaic::Scene counted = for_counting(entry.scene);
+        const std::vector<mosaic::Draw> counted_draws = counted.draws();
+        for (const int samples : samples_list) {
+          LlvmpipeScene gl(context, counted, samples);
+          const std::uint64_t passed = gl.samples_passed();
+          mosaic::RenderTarget target = make_target(counted, samples);
+          const mosaic::FrameStats stats =
+              renderer.render(mosaic::Frame{.draws = counted_draws}, target);
+          const ImageDiff d = compare_images(gl.read_image(), target.color());
+          const bool equal = passed == stats.samples_written;
+          if (!equal) status = 1;
+          char row[256];
+          std::snprintf(row, sizeof row, "| %s | %d | %llu | %llu | %s | %zu | %d |\n",
+                        entry.name.c_str(), samples, static_cast<unsigned long long>(passed),
+                        static_cast<unsigned long long>(stats.samples_written),
+                        equal ? "yes" : "**NO**", d.pixels, d.max_channel);
+          coverage += row;
+          json["coverage"].push_back({{"scene", entry.name},
+                                      {"samples", samples},
+                                      {"llvmpipe_samples_passed", passed},
+                                      {"mosaic_samples_written", stats.samples_written},
+                                      {"equal", equal},
+                                      {"differing_pixels", d.pixels},
+                                      {"max_channel_difference", d.max_channel}});
+        }
+      }
+    }
+
+    std::printf(
+        "\nMedian of %d frames after %d warm-up frames, clear to resolved image, "
+        "llvmpipe and mosaic alternating; mosaic fill rule %s.\n\n%s",
+        frames, warmup, fill_rule.c_str(), table.c_str());
+    std::printf(
+        "\nCovered samples, OpenGL fill rule, depth test off (the images compared are "
+        "those frames):\n\n%s",
+        coverage.c_str());
+    if (!json_path.empty()) {
+      std::ofstream out(json_path);
+      out << json.dump(2) << "\n";
+      if (!out) throw mosaic::Error(mosaic::Errc::kIo, "cannot write " + json_path);
+    }
+    if (status != 0) std::fprintf(stderr, "mosaic-peers: covered-sample counts differ\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mosaic-peers: %s\n", e.what());
+    status = 2;
+  }
+  if (out_dir.empty()) {
+    std::error_code ec;
+    fs::remove_all(tris_dir, ec);
+  }
+  return status;
+}
