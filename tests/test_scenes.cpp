@@ -1,6 +1,8 @@
 // The built-in scenes (scenes/builtin.cpp): determinism, the counts, areas and lengths their
 // documentation states (measured here from the positions), the fan's centre on a 4x sample,
 // the star's tiling, and regression goldens of their reference renders.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,8 +12,6 @@
 #include <set>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "mosaic/mosaic.hpp"
 #include "raster/sample_patterns.hpp"
@@ -254,7 +254,8 @@ TEST(BuiltinScenes, StarIsAnAlternatingTilingOfTheDisc) {
 }
 
 TEST(BuiltinScenes, FanCentreIsExactlyOnA4xSamplePosition) {
-  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{kW, kH}, {64, 48}, {1, 1}, {1920, 1080}}) {
+  for (const auto& [w, h] :
+       std::vector<std::pair<int, int>>{{kW, kH}, {64, 48}, {1, 1}, {1920, 1080}}) {
     const Scene s = builtin_scene("fan", w, h, 1);
     ASSERT_EQ(s.meshes.size(), 1u);
     const Mesh& m = s.meshes[0];
@@ -367,7 +368,8 @@ TEST(BuiltinScenes, UnknownNameAndBadSizeAreRejected) {
     for (const std::string& n : builtin_scene_names())
       EXPECT_NE(msg.find(n), std::string::npos) << msg;
   }
-  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{0, 10}, {10, 0}, {16385, 10}, {-1, -1}}) {
+  for (const auto& [w, h] :
+       std::vector<std::pair<int, int>>{{0, 10}, {10, 0}, {16385, 10}, {-1, -1}}) {
     try {
       builtin_scene("star", w, h);
       FAIL() << "no exception for " << w << "x" << h;
@@ -379,26 +381,21 @@ TEST(BuiltinScenes, UnknownNameAndBadSizeAreRejected) {
 
 // Regression goldens: FNV-1a image hashes (RenderTarget::image_hash) of every built-in scene
 // rendered at 320x180 by the reference rasterizer (Isa::kReference). They were produced once
-// by this test at commit e55f9b2 (the reference of the skeleton, 020eb17) and are not derived independently:
-// a change here means the scene generator or the reference changed, which must be deliberate.
+// by this test at commit e55f9b2 (the reference of the skeleton, 020eb17) and are not derived
+// independently: a change here means the scene generator or the reference changed, which must be
+// deliberate.
 struct Golden {
   const char* scene;
   int samples;
   std::uint64_t hash;
 };
 constexpr Golden kGoldens[] = {
-    {"default", 1, 0x0c56378269214648ull},
-    {"default", 4, 0x26ad8c6c9233f489ull},
-    {"random-small", 1, 0x6f144d57f159056bull},
-    {"random-small", 4, 0x8184cec063d8bcb7ull},
-    {"random-large", 1, 0x33ab70d21bb43789ull},
-    {"random-large", 4, 0x46978fe304f4b658ull},
-    {"slivers", 1, 0xe0d28ddb8d4a8d89ull},
-    {"slivers", 4, 0x493601c6f8006eb9ull},
-    {"star", 1, 0x2427578ba7937ae6ull},
-    {"star", 4, 0x4d5401d4b77a0f8eull},
-    {"fan", 1, 0x7ca6d72cef1a27cbull},
-    {"fan", 4, 0x5943ba3ccb1ce2f6ull},
+    {"default", 1, 0x0c56378269214648ull},      {"default", 4, 0x26ad8c6c9233f489ull},
+    {"random-small", 1, 0x6f144d57f159056bull}, {"random-small", 4, 0x8184cec063d8bcb7ull},
+    {"random-large", 1, 0x33ab70d21bb43789ull}, {"random-large", 4, 0x46978fe304f4b658ull},
+    {"slivers", 1, 0xe0d28ddb8d4a8d89ull},      {"slivers", 4, 0x493601c6f8006eb9ull},
+    {"star", 1, 0x2427578ba7937ae6ull},         {"star", 4, 0x4d5401d4b77a0f8eull},
+    {"fan", 1, 0x7ca6d72cef1a27cbull},          {"fan", 4, 0x5943ba3ccb1ce2f6ull},
 };
 
 TEST(BuiltinScenes, ReferenceRendersMatchGoldens) {

@@ -1,1 +1,297 @@
-// placeholder: filled in by the I/O and scenes work
+// io/obj.cpp — loading a Wavefront OBJ mesh with a camera that frames it.
+//
+// Takes: an OBJ file (positions `v x y z [r g b]` and faces `f`; normals, texture coordinates
+// and materials are ignored). Gives: a Scene with one clip-space Mesh. Its positions are
+// already multiplied by the camera's view-projection (so the Mesh needs no transform), three
+// vertices per triangle, no indices, one colour per vertex: the OBJ vertex colour when every
+// vertex has one, otherwise a flat shade of the face normal so that the shape reads.
+//
+// Parsing is tinyobjloader's (Debian's compiled libtinyobjloader). Polygons are fanned into
+// triangles here rather than by tinyobjloader, so that every index is checked before use.
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mosaic/errors.hpp"
+#include "mosaic/scene.hpp"
+
+namespace mosaic {
+namespace {
+
+/// Vertical field of view of the camera, as its focal length 1 / tan(fov / 2): 2 is about 53°,
+/// a natural lens that neither flattens nor distorts the model.
+constexpr double kFocalLength = 2.0;
+/// The bounding sphere fills this fraction of the shorter screen axis (a margin around it).
+constexpr double kFrameFill = 0.9;
+/// Direction from the model towards the camera: in front, a little right and above, so that
+/// three faces of a box-like model show.
+constexpr glm::dvec3 kViewDirection{0.45, 0.35, 1.0};
+/// Direction towards the light, in view space (upper left, towards the viewer).
+constexpr glm::dvec3 kLightDirection{-0.4, 0.6, 0.7};
+/// Shade = base colour * (ambient + diffuse * |n·l|): the ambient keeps faces turned away
+/// from the light readable.
+constexpr double kAmbient = 0.3;
+constexpr double kDiffuse = 0.7;
+/// Largest channel value of an 8-bit colour.
+constexpr double kChannelMax = 255.0;
+/// Alpha of every vertex colour: OBJ colours have none.
+constexpr std::uint8_t kOpaque = 255;
+/// Near and far planes sit this factor of the radius in front of and behind the centre, so no
+/// vertex lies exactly on either (float rounding of the positions stays inside).
+constexpr double kDepthMargin = 1.05;
+/// The near plane never comes closer than this fraction of the camera distance, which bounds
+/// the depth precision lost to a near plane at the eye.
+constexpr double kMinNearFraction = 1e-3;
+/// Background: a dark blue-grey that every shade of the model stands out from.
+constexpr Rgba8 kClearColor{32, 32, 40, 255};
+
+/// The camera: the bounding sphere seen from kViewDirection, depth z/w in [0, 1] over the
+/// sphere's depth range (near plane at z = 0, the front of the sphere with a margin).
+glm::dmat4 framing_camera(const glm::dvec3& centre, double radius, int width, int height,
+                          glm::dmat4& view) {
+  const double aspect = static_cast<double>(width) / height;
+  // The sphere must fit the narrower of the two fields of view.
+  const double focal = aspect < 1.0 ? kFocalLength * aspect : kFocalLength;
+  // A sphere of radius r at distance d subtends half-angle asin(r / d); its tangent must be at
+  // most kFrameFill / focal: d = r * sqrt(1 + (focal / fill)^2).
+  const double f = focal / kFrameFill;
+  const double dist = radius * std::sqrt(1.0 + f * f);
+  const glm::dvec3 dir = glm::normalize(kViewDirection);
+  const glm::dvec3 eye = centre + dir * dist;
+  // Right-handed view looking at the centre, y up.
+  const glm::dvec3 fwd = -dir;
+  const glm::dvec3 right = glm::normalize(glm::cross(fwd, glm::dvec3(0, 1, 0)));
+  const glm::dvec3 up = glm::cross(right, fwd);
+  view = glm::dmat4(1.0);
+  for (int i = 0; i < 3; ++i) {
+    view[i][0] = right[i];
+    view[i][1] = up[i];
+    view[i][2] = -fwd[i];
+  }
+  view[3][0] = -glm::dot(right, eye);
+  view[3][1] = -glm::dot(up, eye);
+  view[3][2] = glm::dot(fwd, eye);
+  // Near and far planes around the sphere, with a margin so nothing touches them.
+  const double near_plane = std::max(dist - kDepthMargin * radius, dist * kMinNearFraction);
+  const double far_plane = dist + kDepthMargin * radius;
+  // Perspective with depth in [0, 1] (as glm::perspectiveRH_ZO): z_clip = A * z_view + B,
+  // w = -z_view, so z/w = 0 at the near plane and 1 at the far plane.
+  glm::dmat4 proj(0.0);
+  proj[0][0] = focal / aspect;
+  proj[1][1] = focal;
+  proj[2][2] = far_plane / (near_plane - far_plane);
+  proj[2][3] = -1.0;
+  proj[3][2] = -(far_plane * near_plane) / (far_plane - near_plane);
+  return proj * view;
+}
+
+std::uint8_t to_channel(double v01) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(v01, 0.0, 1.0) * kChannelMax));
+}
+
+/// Checks every vertex line (tinyobjloader reads a malformed number as 0 without a word) and
+/// returns the line numbers of the face lines tinyobjloader keeps (three or more vertices), in
+/// file order, so that an error about face k can name its line.
+std::vector<std::size_t> scan_obj(const std::string& text, const std::string& file) {
+  // `v x y z`, optionally with w (4 values) or an r g b colour (6), or both as some tools
+  // write them (7).
+  constexpr int kMinVertexValues = 3, kMaxVertexValues = 7;
+  std::vector<std::size_t> lines;
+  std::istringstream in(text);
+  std::string line;
+  std::size_t n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    std::istringstream words(line);
+    std::string kw;
+    if (!(words >> kw)) continue;
+    if (kw == "f") {
+      int count = 0;
+      for (std::string w; words >> w;) ++count;
+      if (count >= 3) lines.push_back(n);
+    } else if (kw == "v") {
+      int count = 0;
+      for (std::string w; words >> w;) {
+        double v = 0;
+        const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), v);
+        if (ec != std::errc() || end != w.data() + w.size() || !std::isfinite(v))
+          throw Error(Errc::kParse, file + ":" + std::to_string(n) + ": vertex value '" + w +
+                                        "' is not a finite number");
+        ++count;
+      }
+      if (count < kMinVertexValues || count > kMaxVertexValues)
+        throw Error(Errc::kParse, file + ":" + std::to_string(n) +
+                                      ": a vertex needs 3 to 7 "
+                                      "values (x y z [w] [r g b]), got " +
+                                      std::to_string(count));
+    }
+  }
+  return lines;
+}
+
+/// tinyobjloader's error text, reworded as "<file>:<line>: <problem>" when it names a line.
+std::string tinyobj_error(const std::string& file, std::string msg) {
+  std::replace(msg.begin(), msg.end(), '\n', ' ');
+  while (!msg.empty() && msg.back() == ' ') msg.pop_back();
+  if (msg.empty()) msg = "malformed OBJ";
+  const std::size_t at = msg.find("line ");
+  if (at != std::string::npos) {
+    std::size_t line = 0;
+    const char* first = msg.data() + at + 5;
+    const auto [end, ec] = std::from_chars(first, msg.data() + msg.size(), line);
+    if (ec == std::errc() && end != first) return file + ":" + std::to_string(line) + ": " + msg;
+  }
+  return file + ": " + msg;
+}
+
+}  // namespace
+
+Scene load_obj(const std::filesystem::path& path, int width, int height) {
+  const std::string file = path.string();
+  if (width < 1 || width > kMaxTargetSize || height < 1 || height > kMaxTargetSize)
+    throw Error(Errc::kInvalidArgument, file + ": size " + std::to_string(width) + "x" +
+                                            std::to_string(height) + " is outside 1..16384");
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw Error(Errc::kIo, file + ": cannot open: it is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(Errc::kIo, file + ": cannot open: " + std::strerror(errno));
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(Errc::kIo, file + ": read error");
+
+  const std::vector<std::size_t> lines = scan_obj(text, file);
+
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warn, err;
+  std::istringstream obj_stream(text);
+  // No material reader: materials do not affect the render. No triangulation (fanned below,
+  // after the indices are checked); no default vertex colours, so that attrib.colors is
+  // filled only when the file gives every vertex one.
+  const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &obj_stream, nullptr,
+                                   /*triangulate=*/false,
+                                   /*default_vcols_fallback=*/false);
+  if (!ok) throw Error(Errc::kParse, tinyobj_error(file, err));
+
+  const std::size_t vertex_count = attrib.vertices.size() / 3;
+  for (std::size_t i = 0; i < attrib.vertices.size(); ++i) {
+    if (!std::isfinite(attrib.vertices[i]))
+      throw Error(Errc::kParse, file + ": vertex " + std::to_string(i / 3 + 1) +
+                                    " has a coordinate that is not finite");
+  }
+  const bool has_colors = attrib.colors.size() == attrib.vertices.size() && vertex_count > 0;
+
+  // Triangles as vertex-index triples, checked against the vertex count.
+  std::vector<std::array<std::size_t, 3>> tris;
+  std::size_t face = 0;
+  for (const tinyobj::shape_t& shape : shapes) {
+    std::size_t base = 0;
+    for (const unsigned char n : shape.mesh.num_face_vertices) {
+      if (base + n > shape.mesh.indices.size())
+        throw Error(Errc::kParse, file + ": inconsistent face data");
+      for (std::size_t k = 0; k < n; ++k) {
+        const int idx = shape.mesh.indices[base + k].vertex_index;
+        if (idx < 0 || static_cast<std::size_t>(idx) >= vertex_count) {
+          const std::string where = lines.size() > face
+                                        ? std::string(":").append(std::to_string(lines[face]))
+                                        : std::string();
+          // tinyobjloader turns index i into i - 1 and a negative one into count + i.
+          throw Error(Errc::kParse, file + where + ": face " + std::to_string(face + 1) +
+                                        " names a vertex that does not exist (" +
+                                        std::to_string(vertex_count) + " vertices)");
+        }
+      }
+      for (std::size_t k = 1; k + 1 < n; ++k) {
+        tris.push_back({static_cast<std::size_t>(shape.mesh.indices[base].vertex_index),
+                        static_cast<std::size_t>(shape.mesh.indices[base + k].vertex_index),
+                        static_cast<std::size_t>(shape.mesh.indices[base + k + 1].vertex_index)});
+      }
+      base += n;
+      ++face;
+    }
+    // tinyobjloader counts a face's vertices in a byte: a longer polygon desynchronises them.
+    if (base != shape.mesh.indices.size())
+      throw Error(Errc::kParse, file + ": a face has more than 255 vertices");
+  }
+  if (tris.empty()) throw Error(Errc::kParse, file + ": no faces with three or more vertices");
+
+  // Bounding sphere of the vertices the faces use (centre of the box, farthest vertex).
+  auto vertex = [&](std::size_t i) {
+    return glm::dvec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1],
+                      attrib.vertices[3 * i + 2]);
+  };
+  glm::dvec3 lo = vertex(tris[0][0]), hi = lo;
+  for (const auto& t : tris)
+    for (const std::size_t i : t) {
+      lo = glm::min(lo, vertex(i));
+      hi = glm::max(hi, vertex(i));
+    }
+  const glm::dvec3 centre = (lo + hi) * 0.5;
+  double radius = 0;
+  for (const auto& t : tris)
+    for (const std::size_t i : t) radius = std::max(radius, glm::length(vertex(i) - centre));
+  if (!(radius > 0) || !std::isfinite(radius)) {
+    // A single point (or an overflowing extent) has no size to frame; a unit sphere will do.
+    radius = 1.0;
+  }
+
+  glm::dmat4 view;
+  const glm::dmat4 view_projection = framing_camera(centre, radius, width, height, view);
+  const glm::dvec3 light = glm::normalize(kLightDirection);
+
+  Mesh mesh;
+  mesh.space = Space::kClip;
+  mesh.color_source = ColorSource::kPerVertex;
+  mesh.positions.reserve(3 * tris.size());
+  mesh.colors.reserve(3 * tris.size());
+  for (const auto& t : tris) {
+    const glm::dvec3 a = vertex(t[0]), b = vertex(t[1]), c = vertex(t[2]);
+    std::array<Rgba8, 3> col;
+    if (has_colors) {
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t i = t[k];
+        col[k] = {to_channel(attrib.colors[3 * i]), to_channel(attrib.colors[3 * i + 1]),
+                  to_channel(attrib.colors[3 * i + 2]), kOpaque};
+      }
+    } else {
+      // The face normal in view space gives a hue (its direction) and a brightness (the
+      // light); |n·l| shades both windings alike, since OBJ files disagree on winding.
+      glm::dvec3 n = glm::dvec3(view * glm::dvec4(glm::cross(b - a, c - a), 0.0));
+      const double len = glm::length(n);
+      n = len > 0 ? n / len : glm::dvec3(0, 0, 1);
+      const double shade = kAmbient + kDiffuse * std::fabs(glm::dot(n, light));
+      const glm::dvec3 base = glm::abs(n) * 0.5 + 0.5;
+      const Rgba8 flat{to_channel(base.x * shade), to_channel(base.y * shade),
+                       to_channel(base.z * shade), kOpaque};
+      col = {flat, flat, flat};
+    }
+    for (const glm::dvec3& p : {a, b, c})
+      mesh.positions.push_back(glm::vec4(view_projection * glm::dvec4(p, 1.0)));
+    mesh.colors.insert(mesh.colors.end(), col.begin(), col.end());
+  }
+
+  Scene scene;
+  scene.name = path.stem().string();
+  scene.width = width;
+  scene.height = height;
+  scene.clear_color = kClearColor;
+  scene.meshes.push_back(std::move(mesh));
+  return scene;
+}
+
+}  // namespace mosaic

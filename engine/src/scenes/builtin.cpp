@@ -11,13 +11,12 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <string>
-#include <vector>
-
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <string>
+#include <vector>
 
 #include "front/fixed_point.hpp"
 #include "front/setup.hpp"
@@ -76,8 +75,8 @@ glm::dvec2 cos_sin(double x) {
 }
 
 Rgba8 rgb(int r, int g, int b) {
-  return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g),
-          static_cast<std::uint8_t>(b), kOpaque};
+  return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b),
+          kOpaque};
 }
 
 /// A fully saturated colour at hue `h` in [0, 1) (the HSV hexcone, value and saturation 1).
@@ -87,12 +86,18 @@ Rgba8 hue(double h) {
   const int up = static_cast<int>(std::lround(255.0 * (x - sector)));
   const int down = 255 - up;
   switch (sector) {
-    case 0: return rgb(255, up, 0);
-    case 1: return rgb(down, 255, 0);
-    case 2: return rgb(0, 255, up);
-    case 3: return rgb(0, down, 255);
-    case 4: return rgb(up, 0, 255);
-    default: return rgb(255, 0, down);
+    case 0:
+      return rgb(255, up, 0);
+    case 1:
+      return rgb(down, 255, 0);
+    case 2:
+      return rgb(0, 255, up);
+    case 3:
+      return rgb(0, down, 255);
+    case 4:
+      return rgb(up, 0, 255);
+    default:
+      return rgb(255, 0, down);
   }
 }
 
@@ -214,8 +219,7 @@ Scene random_large(Scene scene, Rng& rng) {
           // Built in the unit square and stretched to the screen, so the shapes follow its
           // aspect ratio and the area fraction is kept.
           const glm::dvec2 c(rng.uniform(0, w), rng.uniform(0, h));
-          return random_triangle(rng, c, rng.uniform(kLargeMinFraction, kLargeMaxFraction), w,
-                                 h);
+          return random_triangle(rng, c, rng.uniform(kLargeMinFraction, kLargeMaxFraction), w, h);
         },
         [&](const std::array<Fixed, 3>& q) {
           const double f = area_px2(q) / screen;
@@ -250,11 +254,11 @@ Scene slivers(Scene scene, Rng& rng) {
                                            c + d * (t * len / 2) + n * width};
         },
         [](const std::array<Fixed, 3>& q) {
-          const double len = std::max(
-              {length_px(q[0], q[1]), length_px(q[1], q[2]), length_px(q[2], q[0])});
+          const double len =
+              std::max({length_px(q[0], q[1]), length_px(q[1], q[2]), length_px(q[2], q[0])});
           const double width = 2 * area_px2(q) / len;
-          return len >= kSliverMinLength && len <= kSliverMaxLength &&
-                 width >= kSliverMinWidth && width <= kSliverMaxWidth;
+          return len >= kSliverMinLength && len <= kSliverMaxLength && width >= kSliverMinWidth &&
+                 width <= kSliverMaxWidth;
         });
     add_triangle(m, p, {rng.depth(), rng.depth(), rng.depth()}, rng.color());
   }
@@ -429,30 +433,31 @@ Scene showcase(Scene scene) {
     m.color_source = ColorSource::kPerVertex;
     m.colors = std::move(cube.colors);
     // Two triangles per face of the cube (vertex k has x = bit 0, y = bit 1, z = bit 2).
-    m.indices = {0, 2, 3, 0, 3, 1,  4, 5, 7, 4, 7, 6,  0, 4, 6, 0, 6, 2,
-                 1, 3, 7, 1, 7, 5,  0, 1, 5, 0, 5, 4,  2, 6, 7, 2, 7, 3};
+    m.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 4, 6, 0, 6, 2,
+                 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3};
     scene.meshes.push_back(std::move(m));
   }
 
   // An octahedron that pierces the cube and the ground: the z-buffer draws where they cross.
   {
-    const std::vector<glm::dvec3> v{{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                    {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const std::vector<glm::dvec3> v{{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                    {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     constexpr double kSize = 1.3;
     glm::dmat4 scale(kSize);
     scale[3][3] = 1.0;
-    Mesh m = clip_mesh(vp, transformed(translate({0.1, 0.15, 0.4}) * rotate_y(0.35) * rotate_x(0.6) * scale, v));
+    Mesh m = clip_mesh(
+        vp, transformed(translate({0.1, 0.15, 0.4}) * rotate_y(0.35) * rotate_x(0.6) * scale, v));
     m.color_source = ColorSource::kPerVertex;
-    m.colors = {rgb(255, 140, 0), rgb(255, 230, 40), rgb(250, 60, 200),
-                rgb(40, 220, 230), rgb(60, 230, 90), rgb(70, 90, 255)};
+    m.colors = {rgb(255, 140, 0),  rgb(255, 230, 40), rgb(250, 60, 200),
+                rgb(40, 220, 230), rgb(60, 230, 90),  rgb(70, 90, 255)};
     m.indices = {0, 2, 4, 4, 2, 1, 1, 2, 5, 5, 2, 0, 0, 4, 3, 4, 1, 3, 1, 5, 3, 5, 0, 3};
     scene.meshes.push_back(std::move(m));
   }
 
   // Two large triangles crossing each other in an X (seen from above).
   {
-    const std::vector<glm::dvec3> v{{2.0, -1.0, 1.4}, {4.2, -1.0, -1.2}, {3.1, 2.2, 0.1},
-                                    {2.0, -1.0, -1.2}, {4.2, -1.0, 1.4}, {3.1, 1.8, 0.1}};
+    const std::vector<glm::dvec3> v{{2.0, -1.0, 1.4},  {4.2, -1.0, -1.2}, {3.1, 2.2, 0.1},
+                                    {2.0, -1.0, -1.2}, {4.2, -1.0, 1.4},  {3.1, 1.8, 0.1}};
     Mesh m = clip_mesh(vp, v);
     m.color_source = ColorSource::kPerVertex;
     m.colors = {rgb(230, 40, 40), rgb(250, 200, 40), rgb(255, 255, 255),

@@ -1,0 +1,710 @@
+// Scene and image I/O (io/tris.cpp, io/obj.cpp, io/image.cpp): the .tris grammar of
+// shared/formats/screen-triangles.md and every way a line can break it, save/parse round
+// trips, OBJ loading and its errors, and PNG / PPM files read back with stb_image.
+#include <gtest/gtest.h>
+#include <stb/stb_image.h>  // libstb-dev; tests do not get its pkg-config include path
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "mosaic/mosaic.hpp"
+
+namespace mosaic {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A fresh directory per test, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            ("mosaic_test_io_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+  /// Names of the files in the directory, sorted.
+  std::vector<std::string> files() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::string data_file(const std::string& name) {
+  return std::string(MOSAIC_TEST_DATA_DIR) + "/" + name;
+}
+
+/// Renders a scene with the reference rasterizer at its own size.
+RenderTarget render(const Scene& s, int samples = 1) {
+  Renderer renderer({1, Isa::kReference});
+  RenderTarget target(s.width, s.height, samples);
+  target.set_clear(s.clear_color, s.clear_depth);
+  const std::vector<Draw> draws = s.draws();
+  renderer.render(Frame{draws}, target);
+  return target;
+}
+
+// ---- parse_tris: accepted input ----
+
+TEST(TrisParse, ReadsSizeClearFlatAndPerVertexTriangles) {
+  const std::string text =
+      "# a comment line\n"
+      "\n"
+      "   \t  \n"
+      "size 640 480   # trailing comment\n"
+      "clear 10 20 30 40\n"
+      "tri 1 2 0.5  3.25 4 0.25  -5 6e1 1   100 110 120 255\n"
+      "tri\t0 0 0 10 0 0 0 10 0  255 0 0 255  0 255 0 128  0 0 255 0\r\n"
+      "#tri 1 1 1 1 1 1 1 1 1 1 1 1 1\n";
+  const Scene s = parse_tris(text, "t.tris");
+  EXPECT_EQ(s.name, "t.tris");
+  EXPECT_EQ(s.width, 640);
+  EXPECT_EQ(s.height, 480);
+  EXPECT_EQ(s.clear_color, (Rgba8{10, 20, 30, 40}));
+  EXPECT_EQ(s.clear_depth, 1.0f);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const Mesh& m = s.meshes[0];
+  EXPECT_EQ(m.space, Space::kScreen);
+  EXPECT_EQ(m.color_source, ColorSource::kPerVertex);
+  EXPECT_TRUE(m.indices.empty());
+  EXPECT_EQ(m.state.depth_test, DepthTest::kLess);
+  EXPECT_EQ(m.state.cull, CullMode::kNone);
+  ASSERT_EQ(m.positions.size(), 6u);
+  EXPECT_EQ(m.positions[0], glm::vec4(1, 2, 0.5f, 1));
+  EXPECT_EQ(m.positions[1], glm::vec4(3.25f, 4, 0.25f, 1));
+  EXPECT_EQ(m.positions[2], glm::vec4(-5, 60, 1, 1));
+  EXPECT_EQ(m.positions[5], glm::vec4(0, 10, 0, 1));
+  ASSERT_EQ(m.colors.size(), 6u);
+  // A flat triangle gets its colour three times; a per-vertex one its three colours.
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(m.colors[k], (Rgba8{100, 110, 120, 255}));
+  EXPECT_EQ(m.colors[3], (Rgba8{255, 0, 0, 255}));
+  EXPECT_EQ(m.colors[4], (Rgba8{0, 255, 0, 128}));
+  EXPECT_EQ(m.colors[5], (Rgba8{0, 0, 255, 0}));
+}
+
+TEST(TrisParse, DefaultsWithoutClearAndAcceptsNoTriangles) {
+  const Scene s = parse_tris("size 1 16384\n");
+  EXPECT_EQ(s.width, 1);
+  EXPECT_EQ(s.height, 16384);
+  EXPECT_EQ(s.clear_color, (Rgba8{0, 0, 0, 255}));
+  EXPECT_EQ(s.triangle_count(), 0u);
+  // The file need not end with a newline.
+  EXPECT_EQ(parse_tris("size 4 4\ntri 0 0 0 4 0 0 0 4 0 1 2 3 4").triangle_count(), 1u);
+}
+
+TEST(TrisParse, ExtremeButFiniteCoordinatesAreAccepted) {
+  const Scene s =
+      parse_tris("size 8 8\ntri -1e30 0 0  3.4e38 0.000001 0  1e-300 -0 -2.5  0 0 0 255\n");
+  const Mesh& m = s.meshes[0];
+  EXPECT_EQ(m.positions[0].x, -1e30f);
+  EXPECT_EQ(m.positions[1].x, 3.4e38f);
+  EXPECT_EQ(m.positions[2].x, 0.0f);   // below float's range: rounds to zero, still finite
+  EXPECT_EQ(m.positions[2].z, -2.5f);  // depth outside [0, 1] is clipped when drawn, not here
+}
+
+TEST(TrisParse, FlatTriangleRendersLikeItsThreeEqualColours) {
+  // The parser stores a flat triangle as three equal vertex colours; setup must shade it with
+  // exactly that colour (no interpolation rounding), over every covered pixel.
+  const Scene s = parse_tris("size 16 16\ntri 0 0 0.5 16 0 0.5 0 16 0.5 37 201 99 255\n");
+  const RenderTarget t = render(s);
+  int painted = 0;
+  for (const Rgba8 c : t.color()) {
+    if (c == Rgba8{0, 0, 0, 255}) continue;
+    EXPECT_EQ(c, (Rgba8{37, 201, 99, 255}));
+    ++painted;
+  }
+  // Pixel centres (x + 0.5, y + 0.5) with x + y < 15 are inside: 1 + 2 + ... + 15 = 120. The
+  // 16 centres with x + y = 15 lie on the hypotenuse, a right edge under either fill rule.
+  EXPECT_EQ(painted, 120);
+}
+
+// ---- parse_tris: every malformed line ----
+
+struct BadCase {
+  const char* what;
+  std::string text;
+  int line;  ///< the line the error must name
+};
+
+std::vector<BadCase> bad_cases() {
+  const std::string ok_tri = "tri 0 0 0 1 0 0 0 1 0 1 2 3 4\n";
+  return {
+      {"empty file", "", 1},
+      {"only comments", "# nothing\n\n# here\n", 3},
+      {"tri before size", "# c\ntri 0 0 0 1 0 0 0 1 0 1 2 3 4\nsize 4 4\n", 2},
+      {"clear before size", "clear 0 0 0 255\nsize 4 4\n", 1},
+      {"second size", "size 4 4\n" + ok_tri + "size 4 4\n", 3},
+      {"size with one value", "size 4\n", 1},
+      {"size with three values", "size 4 4 4\n", 1},
+      {"size zero", "size 0 4\n", 1},
+      {"size too large", "size 4 16385\n", 1},
+      {"size negative", "size -4 4\n", 1},
+      {"size not an integer", "size 4.0 4\n", 1},
+      {"size garbage", "size 4x 4\n", 1},
+      {"size overflowing", "size 99999999999999999999999 4\n", 1},
+      {"clear with three values", "size 4 4\nclear 0 0 0\n", 2},
+      {"clear with five values", "size 4 4\nclear 0 0 0 0 0\n", 2},
+      {"clear 256", "size 4 4\nclear 0 256 0 0\n", 2},
+      {"clear -1", "size 4 4\nclear 0 0 -1 0\n", 2},
+      {"clear 1.5", "size 4 4\nclear 1.5 0 0 0\n", 2},
+      {"second clear", "size 4 4\nclear 0 0 0 0\nclear 0 0 0 0\n", 3},
+      {"truncated tri", "size 4 4\n" + ok_tri + "tri 0 0 0 1 0\n", 3},
+      {"tri without colour", "size 4 4\ntri 0 0 0 1 0 0 0 1 0\n", 2},
+      {"tri with 3 colour values", "size 4 4\ntri 0 0 0 1 0 0 0 1 0 1 2 3\n", 2},
+      {"tri with 5 colour values", "size 4 4\ntri 0 0 0 1 0 0 0 1 0 1 2 3 4 5\n", 2},
+      {"tri with 11 colour values", "size 4 4\ntri 0 0 0 1 0 0 0 1 0 1 2 3 4 5 6 7 8 9 10 11\n", 2},
+      {"tri with 13 colour values",
+       "size 4 4\ntri 0 0 0 1 0 0 0 1 0 1 2 3 4 5 6 7 8 9 10 11 12 13\n", 2},
+      {"coordinate nan", "size 4 4\ntri nan 0 0 1 0 0 0 1 0 1 2 3 4\n", 2},
+      {"coordinate inf", "size 4 4\ntri 0 inf 0 1 0 0 0 1 0 1 2 3 4\n", 2},
+      {"coordinate -infinity", "size 4 4\ntri 0 0 -infinity 1 0 0 0 1 0 1 2 3 4\n", 2},
+      {"coordinate out of double range", "size 4 4\ntri 0 0 0 1e999 0 0 0 1 0 1 2 3 4\n", 2},
+      {"coordinate out of float range", "size 4 4\ntri 0 0 0 1 -1e39 0 0 1 0 1 2 3 4\n", 2},
+      {"coordinate garbage", "size 4 4\ntri 0 0 0 1 0 0 0 1 abc 1 2 3 4\n", 2},
+      {"coordinate with trailing junk", "size 4 4\ntri 0 0 0 1.5.2 0 0 0 1 0 1 2 3 4\n", 2},
+      {"coordinate hexadecimal", "size 4 4\ntri 0x10 0 0 1 0 0 0 1 0 1 2 3 4\n", 2},
+      {"coordinate with comma", "size 4 4\ntri 1,5 0 0 1 0 0 0 1 0 1 2 3 4\n", 2},
+      {"coordinate double sign", "size 4 4\ntri --1 0 0 1 0 0 0 1 0 1 2 3 4\n", 2},
+      {"colour 256", "size 4 4\ntri 0 0 0 1 0 0 0 1 0 1 2 256 4\n", 2},
+      {"colour -1", "size 4 4\ntri 0 0 0 1 0 0 0 1 0 1 -1 3 4\n", 2},
+      {"colour 1.5", "size 4 4\ntri 0 0 0 1 0 0 0 1 0 1.5 2 3 4\n", 2},
+      {"colour 1e2", "size 4 4\ntri 0 0 0 1 0 0 0 1 0 1e2 2 3 4\n", 2},
+      {"last per-vertex colour 256",
+       "size 4 4\ntri 0 0 0 1 0 0 0 1 0 1 2 3 4 5 6 7 8 9 10 11 256\n", 2},
+      {"unknown keyword", "size 4 4\n" + ok_tri + ok_tri + "triangle 0 0 0 1 0 0 0 1 0 1 2 3 4\n",
+       4},
+      {"keyword in upper case", "size 4 4\nTRI 0 0 0 1 0 0 0 1 0 1 2 3 4\n", 2},
+      {"NUL byte", std::string("size 4 4\n") + ok_tri + std::string("tri 0 0\0 0", 11) + "\n", 3},
+      {"error after many good lines",
+       "size 4 4\n" + ok_tri + ok_tri + ok_tri + ok_tri + ok_tri + "tri 0 0 0 1 0 0 0 1 0 1 2 3\n",
+       7},
+  };
+}
+
+TEST(TrisParse, EveryMalformedLineIsAParseErrorNamingFileAndLine) {
+  for (const BadCase& c : bad_cases()) {
+    try {
+      parse_tris(c.text, "bad.tris");
+      ADD_FAILURE() << c.what << ": accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), Errc::kParse) << c.what;
+      const std::string msg = e.what();
+      const std::string where = "bad.tris:" + std::to_string(c.line) + ": ";
+      EXPECT_EQ(msg.rfind(where, 0), 0u) << c.what << ": " << msg;
+      EXPECT_GT(msg.size(), where.size() + 5) << c.what << ": the problem is named";
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << c.what << ": one line";
+    }
+  }
+}
+
+TEST(TrisParse, MessagesNameTheProblem) {
+  auto message = [](const std::string& text) {
+    try {
+      parse_tris(text, "m.tris");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message("size 4 4\ntri 0 0 0 1 0 0 0 1 0 1 2 256 4\n").find("'256'"),
+            std::string::npos);
+  EXPECT_NE(message("size 4 4\ntri nan 0 0 1 0 0 0 1 0 1 2 3 4\n").find("'nan'"),
+            std::string::npos);
+  EXPECT_NE(message("size 4 4\nsize 4 4\n").find("second 'size'"), std::string::npos);
+  EXPECT_NE(message("size 4 4\nquad 1\n").find("unknown keyword 'quad'"), std::string::npos);
+  EXPECT_NE(message("size 4 4\ntri 1 2\n").find("got 2 values"), std::string::npos);
+}
+
+// ---- load_tris ----
+
+TEST(TrisLoad, ReadsAFileAndNamesItInErrors) {
+  TempDir dir;
+  write_text(dir / "good.tris", "size 3 2\ntri 0 0 0 3 0 0 0 2 0 9 9 9 9\n");
+  const Scene s = load_tris(dir / "good.tris");
+  EXPECT_EQ(s.name, "good");
+  EXPECT_EQ(s.width, 3);
+  EXPECT_EQ(s.triangle_count(), 1u);
+
+  write_text(dir / "bad.tris", "size 3 2\n\ntri 0 0 0 3 0 0 0 2 0 9 9 9\n");
+  try {
+    load_tris(dir / "bad.tris");
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), Errc::kParse);
+    EXPECT_EQ(std::string(e.what()).rfind((dir / "bad.tris").string() + ":3: ", 0), 0u) << e.what();
+  }
+}
+
+TEST(TrisLoad, MissingFileOrDirectoryIsAnIoError) {
+  TempDir dir;
+  for (const fs::path& p : {dir / "missing.tris", dir.path()}) {
+    try {
+      load_tris(p);
+      FAIL() << p << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), Errc::kIo);
+      EXPECT_EQ(std::string(e.what()).rfind(p.string() + ": cannot open", 0), 0u) << e.what();
+    }
+  }
+}
+
+TEST(TrisLoad, SharedEdgesFixtureCoversEverySampleExactlyOnce) {
+  const Scene s = load_tris(data_file("shared_edges.tris"));
+  ASSERT_EQ(s.width, 64);
+  ASSERT_EQ(s.height, 48);
+  const Mesh& m = s.meshes[0];
+  ASSERT_EQ(s.triangle_count(), 40u);
+  // Count, per sample, the triangles that cover it, drawing each one alone in white.
+  constexpr int kSamples = 4;
+  std::vector<int> count(std::size_t{64} * 48 * kSamples, 0);
+  Renderer renderer({1, Isa::kReference});
+  for (std::size_t t = 0; t < s.triangle_count(); ++t) {
+    Mesh one = m;
+    one.positions.assign(m.positions.begin() + 3 * t, m.positions.begin() + 3 * t + 3);
+    one.colors.assign(3, Rgba8{255, 255, 255, 255});
+    const std::vector<Draw> draws{one.draw()};
+    RenderTarget target(64, 48, kSamples, {.keep_sample_depth = false, .keep_sample_color = true});
+    target.set_clear({0, 0, 0, 255});
+    renderer.render(Frame{draws}, target);
+    for (std::size_t i = 0; i < count.size(); ++i) count[i] += target.sample_color()[i].r == 255;
+  }
+  EXPECT_EQ(*std::min_element(count.begin(), count.end()), 1);
+  EXPECT_EQ(*std::max_element(count.begin(), count.end()), 1);
+  // The per-vertex-colour cell interpolates: more than three distinct colours there.
+  const RenderTarget whole = render(s);
+  std::vector<std::uint32_t> corner;
+  for (int y = 40; y < 48; ++y)
+    for (int x = 56; x < 64; ++x) {
+      const Rgba8 c = whole.pixel(x, y);
+      corner.push_back(std::uint32_t{c.r} << 16 | c.g << 8 | c.b);
+    }
+  std::sort(corner.begin(), corner.end());
+  EXPECT_GT(std::unique(corner.begin(), corner.end()) - corner.begin(), 10);
+}
+
+// ---- save_tris ----
+
+/// Every vertex colour of a mesh, expanded to one per vertex of its triangles.
+std::vector<Rgba8> vertex_colors(const Mesh& m) {
+  std::vector<Rgba8> out;
+  for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t v = m.indices.empty() ? 3 * t + k : m.indices[3 * t + k];
+      switch (m.color_source) {
+        case ColorSource::kConstant:
+          out.push_back(m.color);
+          break;
+        case ColorSource::kPerTriangle:
+          out.push_back(m.colors[t]);
+          break;
+        case ColorSource::kPerVertex:
+          out.push_back(m.colors[v]);
+          break;
+      }
+    }
+  }
+  return out;
+}
+
+TEST(TrisSave, ScreenScenesRoundTripBitForBit) {
+  TempDir dir;
+  for (const std::string name : {"random-large", "slivers", "fan", "star"}) {
+    const Scene s = builtin_scene(name, 320, 180, 9);
+    const fs::path p = dir / (name + ".tris");
+    save_tris(s, p);
+    const Scene r = load_tris(p);
+    EXPECT_EQ(r.width, s.width);
+    EXPECT_EQ(r.height, s.height);
+    EXPECT_EQ(r.clear_color, s.clear_color);
+    ASSERT_EQ(r.meshes.size(), 1u);
+    EXPECT_EQ(r.meshes[0].positions, s.meshes[0].positions) << name;
+    EXPECT_EQ(r.meshes[0].colors, vertex_colors(s.meshes[0])) << name;
+    // Per-triangle colours became three equal vertex colours: the image is the same.
+    if (name != "slivers") {
+      EXPECT_EQ(render(r, 4).image_hash(), render(s, 4).image_hash()) << name;
+    }
+  }
+  // Nothing but the files themselves is left in the folder.
+  EXPECT_EQ(dir.files(), (std::vector<std::string>{"fan.tris", "random-large.tris", "slivers.tris",
+                                                   "star.tris"}));
+}
+
+TEST(TrisSave, WritesFourColoursForFlatAndTwelveForShadedTriangles) {
+  Scene s;
+  s.width = 10;
+  s.height = 20;
+  s.clear_color = {1, 2, 3, 4};
+  Mesh m;
+  m.space = Space::kScreen;
+  m.color_source = ColorSource::kPerVertex;
+  m.positions = {{0.1f, 0.2f, 0.3f, 1}, {1e-7f, -3.5f, 0, 1}, {1e30f, 7, 1, 1},
+                 {0, 0, 0, 1},          {1, 0, 0, 1},         {0, 1, 0, 1}};
+  m.colors = {{9, 9, 9, 9}, {9, 9, 9, 9}, {9, 9, 9, 9}, {1, 2, 3, 4}, {5, 6, 7, 8}, {1, 2, 3, 4}};
+  s.meshes.push_back(m);
+  TempDir dir;
+  save_tris(s, dir / "t.tris");
+  const std::string text = read_text(dir / "t.tris");
+  std::vector<std::vector<std::string>> tris;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    std::vector<std::string> w{std::istream_iterator<std::string>(words), {}};
+    if (w.empty()) continue;
+    if (w[0] == "tri") tris.push_back(w);
+    if (w[0] == "size") {
+      EXPECT_EQ(line, "size 10 20");
+    }
+    if (w[0] == "clear") {
+      EXPECT_EQ(w, (std::vector<std::string>{"clear", "1", "2", "3", "4"}));
+    }
+  }
+  ASSERT_EQ(tris.size(), 2u);
+  EXPECT_EQ(tris[0].size(), 1u + 9 + 4);
+  EXPECT_EQ(tris[1].size(), 1u + 9 + 12);
+  // Shortest round-trip text: 0.1f is written "0.1", not 0.10000000149011612.
+  EXPECT_EQ(tris[0][1], "0.1");
+  const Scene r = parse_tris(text);
+  EXPECT_EQ(r.meshes[0].positions, m.positions);
+  EXPECT_EQ(r.meshes[0].colors, m.colors);
+}
+
+TEST(TrisSave, ClipSpaceIsProjectedWithTheViewportTransform) {
+  Scene s;
+  s.width = 100;
+  s.height = 50;
+  Mesh m;
+  m.space = Space::kClip;
+  m.color_source = ColorSource::kConstant;
+  m.color = {7, 8, 9, 10};
+  // Worked by hand: x_px = (x/w + 1) * 50, y_px = (1 - y/w) * 25, z = z/w.
+  m.positions = {{0, 0, 0.5f, 1},  // -> (50, 25, 0.5)
+                 {1, -1, 1, 2},    // -> (75, 37.5, 0.5)
+                 {-4, 4, 0, 4},    // -> (0, 0, 0)
+                 // Skipped: a vertex behind the eye (w < 0)...
+                 {0, 0, 0.5f, 1},
+                 {1, 0, 0.5f, 1},
+                 {0, 0, 0.5f, -1},
+                 // ...or before the near plane (z < 0)...
+                 {0, 0, 0.5f, 1},
+                 {1, 0, 0.5f, 1},
+                 {0, 1, -0.1f, 1},
+                 // ...or with a non-finite coordinate.
+                 {0, 0, 0.5f, 1},
+                 {1, 0, 0.5f, 1},
+                 {0, std::numeric_limits<float>::quiet_NaN(), 0.5f, 1}};
+  s.meshes.push_back(m);
+  TempDir dir;
+  save_tris(s, dir / "c.tris");
+  const Scene r = load_tris(dir / "c.tris");
+  ASSERT_EQ(r.triangle_count(), 1u);
+  const std::vector<glm::vec4> expected{{50, 25, 0.5f, 1}, {75, 37.5f, 0.5f, 1}, {0, 0, 0, 1}};
+  EXPECT_EQ(r.meshes[0].positions, expected);
+  EXPECT_EQ(r.meshes[0].colors, std::vector<Rgba8>(3, Rgba8{7, 8, 9, 10}));
+}
+
+TEST(TrisSave, CulledTrianglesAreSkipped) {
+  // One triangle of each winding; on screen (y down) the first is clockwise.
+  Scene s;
+  s.width = s.height = 10;
+  Mesh m;
+  m.space = Space::kScreen;
+  m.color_source = ColorSource::kConstant;
+  m.positions = {{0, 0, 0, 1}, {10, 0, 0, 1}, {0, 10, 0, 1},
+                 {0, 0, 0, 1}, {0, 10, 0, 1}, {10, 0, 0, 1}};
+  s.meshes.push_back(m);
+  TempDir dir;
+  for (const CullMode cull : {CullMode::kNone, CullMode::kBack, CullMode::kFront}) {
+    s.for_each_state([cull](DrawState& st) { st.cull = cull; });
+    save_tris(s, dir / "w.tris");
+    const Scene r = load_tris(dir / "w.tris");
+    ASSERT_EQ(r.triangle_count(), cull == CullMode::kNone ? 2u : 1u);
+    if (cull == CullMode::kNone) continue;
+    // Counter-clockwise on screen is the default front face: culling back keeps the second.
+    const glm::vec4 second = r.meshes[0].positions[1];
+    EXPECT_EQ(second, cull == CullMode::kBack ? glm::vec4(0, 10, 0, 1) : glm::vec4(10, 0, 0, 1));
+  }
+}
+
+TEST(TrisSave, DefaultSceneSurvivesTheTripThroughScreenSpace) {
+  // The clip-space showcase saved as .tris and read back draws nearly the same image: only
+  // the perspective-correct colour interpolation (there is no w in a .tris) and the float
+  // rounding of projected vertices differ.
+  const Scene s = builtin_scene("default", 160, 90);
+  TempDir dir;
+  save_tris(s, dir / "d.tris");
+  const Scene r = load_tris(dir / "d.tris");
+  EXPECT_GT(r.triangle_count(), s.triangle_count() / 2);
+  const RenderTarget a = render(s), b = render(r);
+  int close = 0;
+  for (std::size_t i = 0; i < a.color().size(); ++i) {
+    const Rgba8 p = a.color()[i], q = b.color()[i];
+    const int d = std::max({std::abs(p.r - q.r), std::abs(p.g - q.g), std::abs(p.b - q.b)});
+    close += d <= 8;
+  }
+  EXPECT_GT(close, static_cast<int>(a.color().size() * 97 / 100));
+}
+
+TEST(TrisSave, BadSceneOrPathIsRejectedWithoutLeftovers) {
+  TempDir dir;
+  Scene s = builtin_scene("fan", 32, 32);
+  try {
+    save_tris(s, dir / "no" / "such" / "dir.tris");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), Errc::kIo);
+  }
+  // The target is a directory: rename fails, the temporary file is removed.
+  fs::create_directory(dir / "taken.tris");
+  EXPECT_THROW(save_tris(s, dir / "taken.tris"), Error);
+  EXPECT_EQ(dir.files(), std::vector<std::string>{"taken.tris"});
+  // An inconsistent mesh is rejected as render() would reject it.
+  s.meshes[0].colors.pop_back();
+  try {
+    save_tris(s, dir / "x.tris");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), Errc::kInvalidDraw);
+  }
+  s = builtin_scene("fan", 32, 32);
+  s.width = 0;
+  EXPECT_THROW(save_tris(s, dir / "x.tris"), Error);
+  EXPECT_EQ(dir.files(), std::vector<std::string>{"taken.tris"});
+}
+
+// ---- OBJ ----
+
+TEST(Obj, CubeFixtureIsFannedFramedAndShaded) {
+  const Scene s = load_obj(data_file("cube.obj"), 320, 180);
+  EXPECT_EQ(s.name, "cube");
+  EXPECT_EQ(s.width, 320);
+  EXPECT_EQ(s.height, 180);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const Mesh& m = s.meshes[0];
+  EXPECT_EQ(m.space, Space::kClip);
+  EXPECT_EQ(m.color_source, ColorSource::kPerVertex);
+  EXPECT_EQ(s.triangle_count(), 12u);  // six quads, two triangles each
+  ASSERT_EQ(m.positions.size(), 36u);
+  // Framed: every vertex in the view volume, depth in [0, 1], and the cube is not tiny.
+  float reach = 0;
+  for (const glm::vec4& p : m.positions) {
+    ASSERT_GT(p.w, 0);
+    EXPECT_LE(std::fabs(p.x), p.w);
+    EXPECT_LE(std::fabs(p.y), p.w);
+    EXPECT_GT(p.z / p.w, 0.0f);
+    EXPECT_LT(p.z / p.w, 1.0f);
+    reach = std::max({reach, std::fabs(p.x / p.w), std::fabs(p.y / p.w)});
+  }
+  EXPECT_GT(reach, 0.4f);
+  // Normal shading: flat per face, and the two triangles of a face agree; faces differ.
+  std::vector<std::uint32_t> face_colors;
+  for (std::size_t t = 0; t < 12; ++t) {
+    EXPECT_EQ(m.colors[3 * t], m.colors[3 * t + 1]);
+    EXPECT_EQ(m.colors[3 * t], m.colors[3 * t + 2]);
+    const Rgba8 c = m.colors[3 * t];
+    face_colors.push_back(std::uint32_t{c.r} << 16 | c.g << 8 | c.b);
+    if (t % 2 == 1) {
+      EXPECT_EQ(m.colors[3 * t], m.colors[3 * t - 3]) << "face " << t / 2;
+    }
+  }
+  std::sort(face_colors.begin(), face_colors.end());
+  EXPECT_GE(std::unique(face_colors.begin(), face_colors.end()) - face_colors.begin(), 3);
+  // Rendered: all 12 triangles pass setup, and the cube covers a fair part of the image.
+  Renderer renderer({1, Isa::kReference});
+  RenderTarget target(320, 180);
+  target.set_clear(s.clear_color);
+  const std::vector<Draw> draws = s.draws();
+  const FrameStats st = renderer.render(Frame{draws}, target);
+  EXPECT_EQ(st.triangles_drawn, 12u);
+  const auto covered = std::count_if(target.color().begin(), target.color().end(),
+                                     [&](Rgba8 c) { return c != s.clear_color; });
+  EXPECT_GT(covered, 320 * 180 / 10);
+}
+
+TEST(Obj, VertexColoursAndRelativeIndicesAreUsed) {
+  TempDir dir;
+  write_text(dir / "c.obj",
+             "# one coloured triangle, faces with relative indices and a texture index\n"
+             "v 0 0 0 1 0 0\n"
+             "v 1 0 0 0 1 0\n"
+             "v 0 1 0 0 0 0.5\n"
+             "vt 0 0\n"
+             "f -3/1 -2/1 -1/1\n");
+  const Scene s = load_obj(dir / "c.obj", 64, 64);
+  ASSERT_EQ(s.triangle_count(), 1u);
+  const std::vector<Rgba8> expected{{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 128, 255}};
+  EXPECT_EQ(s.meshes[0].colors, expected);
+}
+
+TEST(Obj, ErrorsNameTheFileAndLine) {
+  TempDir dir;
+  struct Case {
+    const char* what;
+    std::string text;
+    Errc code;
+    std::string starts;  ///< the message begins with the path and this
+  };
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const std::vector<Case> cases{
+      {"index beyond the vertices", tri + "f 1 2 3\nf 1 2 9\n", Errc::kParse, ":5: "},
+      {"relative index before the first vertex", tri + "f -1 -2 -4\n", Errc::kParse, ":4: "},
+      {"index zero", tri + "f 0 1 2\n", Errc::kParse, ":4: "},
+      {"garbage index", tri + "f a b c\n", Errc::kParse, ":4: "},
+      {"garbage coordinate", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n", Errc::kParse, ":2: "},
+      {"non-finite coordinate", "v 0 0 0\nv 1 0 0\nv 0 1e999 0\nf 1 2 3\n", Errc::kParse, ":3: "},
+      {"vertex with two values", "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Errc::kParse, ":1: "},
+      {"no faces", tri, Errc::kParse, ": "},
+      {"only a two-vertex face", tri + "f 1 2\n", Errc::kParse, ": "},
+      {"empty file", "", Errc::kParse, ": "},
+  };
+  for (const Case& c : cases) {
+    const fs::path p = dir / "bad.obj";
+    write_text(p, c.text);
+    try {
+      load_obj(p);
+      ADD_FAILURE() << c.what << ": accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), c.code) << c.what;
+      EXPECT_EQ(std::string(e.what()).rfind(p.string() + c.starts, 0), 0u)
+          << c.what << ": " << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << c.what;
+    }
+  }
+  try {
+    load_obj(dir / "missing.obj");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), Errc::kIo);
+    EXPECT_NE(std::string(e.what()).find("missing.obj"), std::string::npos);
+  }
+  EXPECT_THROW(load_obj(data_file("cube.obj"), 0, 10), Error);
+}
+
+// ---- images ----
+
+/// A small target with a different colour in every pixel (and alpha), written directly.
+RenderTarget pattern_target(int w, int h) {
+  RenderTarget t(w, h);
+  auto& px = t.color_storage();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      px[static_cast<std::size_t>(y) * w + x] = {
+          static_cast<std::uint8_t>(x * 40), static_cast<std::uint8_t>(y * 60),
+          static_cast<std::uint8_t>(x * y + 7), static_cast<std::uint8_t>(255 - x - y)};
+  return t;
+}
+
+/// Reads an image with stb_image; `channels` 4 for RGBA, 3 for RGB.
+std::vector<std::uint8_t> read_image(const fs::path& p, int channels, int& w, int& h) {
+  int n = 0;
+  unsigned char* data = stbi_load(p.c_str(), &w, &h, &n, channels);
+  if (data == nullptr) return {};
+  std::vector<std::uint8_t> out(data, data + static_cast<std::size_t>(w) * h * channels);
+  stbi_image_free(data);
+  return out;
+}
+
+TEST(Image, PngAndPpmReadBackExactly) {
+  TempDir dir;
+  const RenderTarget t = pattern_target(5, 3);
+  write_image(t, dir / "a.png");
+  write_image(t, dir / "b.PPM");  // the extension is case-insensitive
+  int w = 0, h = 0;
+  const std::vector<std::uint8_t> png = read_image(dir / "a.png", 4, w, h);
+  ASSERT_EQ(w, 5);
+  ASSERT_EQ(h, 3);
+  const std::vector<std::uint8_t> ppm = read_image(dir / "b.PPM", 3, w, h);
+  ASSERT_EQ(w, 5);
+  ASSERT_EQ(h, 3);
+  for (std::size_t i = 0; i < t.color().size(); ++i) {
+    const Rgba8 c = t.color()[i];
+    EXPECT_EQ(png[4 * i + 0], c.r);
+    EXPECT_EQ(png[4 * i + 1], c.g);
+    EXPECT_EQ(png[4 * i + 2], c.b);
+    EXPECT_EQ(png[4 * i + 3], c.a);  // PNG keeps alpha
+    EXPECT_EQ(ppm[3 * i + 0], c.r);
+    EXPECT_EQ(ppm[3 * i + 1], c.g);
+    EXPECT_EQ(ppm[3 * i + 2], c.b);
+  }
+  // The PPM is binary P6: a text header, then exactly width * height * 3 bytes.
+  const std::string bytes = read_text(dir / "b.PPM");
+  const std::string header = "P6\n5 3\n255\n";
+  EXPECT_EQ(bytes.substr(0, header.size()), header);
+  EXPECT_EQ(bytes.size(), header.size() + 5 * 3 * 3);
+  EXPECT_EQ(dir.files(), (std::vector<std::string>{"a.png", "b.PPM"}));
+}
+
+TEST(Image, RenderedSceneWritesAndOverwrites) {
+  TempDir dir;
+  const RenderTarget a = render(builtin_scene("fan", 64, 48));
+  write_image(a, dir / "f.png");
+  const RenderTarget b = render(builtin_scene("star", 64, 48));
+  write_image(b, dir / "f.png");
+  int w = 0, h = 0;
+  const std::vector<std::uint8_t> png = read_image(dir / "f.png", 4, w, h);
+  ASSERT_EQ(png.size(), b.color().size() * 4);
+  EXPECT_TRUE(
+      std::equal(png.begin(), png.end(), reinterpret_cast<const std::uint8_t*>(b.color().data())));
+}
+
+TEST(Image, BadExtensionOrPathFailsWithoutLeavingFiles) {
+  TempDir dir;
+  const RenderTarget t = pattern_target(2, 2);
+  for (const char* name : {"x.jpg", "x", "x.png.txt", ".png"}) {
+    try {
+      write_image(t, dir / name);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), Errc::kInvalidArgument) << name;
+    }
+  }
+  try {
+    write_image(t, dir / "missing" / "x.png");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), Errc::kIo);
+    EXPECT_NE(std::string(e.what()).find("x.png"), std::string::npos);
+  }
+  // A directory where the image should go: the write fails and leaves no temporary behind.
+  fs::create_directory(dir / "d.ppm");
+  try {
+    write_image(t, dir / "d.ppm");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), Errc::kIo);
+  }
+  EXPECT_EQ(dir.files(), std::vector<std::string>{"d.ppm"});
+}
+
+}  // namespace
+}  // namespace mosaic
