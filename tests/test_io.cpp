@@ -119,6 +119,8 @@ TEST(TrisParse, DefaultsWithoutClearAndAcceptsNoTriangles) {
   EXPECT_EQ(s.height, 16384);
   EXPECT_EQ(s.clear_color, (Rgba8{0, 0, 0, 255}));
   EXPECT_EQ(s.triangle_count(), 0u);
+  // A UTF-8 byte order mark before the first line is skipped.
+  EXPECT_EQ(parse_tris("\xEF\xBB\xBFsize 2 3\n").height, 3);
   // The file need not end with a newline.
   EXPECT_EQ(parse_tris("size 4 4\ntri 0 0 0 4 0 0 0 4 0 1 2 3 4").triangle_count(), 1u);
 }

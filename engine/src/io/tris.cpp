@@ -224,6 +224,9 @@ Scene parse_tris(const std::string& text, const std::string& name) {
 
   bool have_size = false, have_clear = false;
   std::size_t line_no = 0, pos = 0;
+  // A UTF-8 byte order mark (some Windows editors write one) is not part of the first line.
+  constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+  if (std::string_view(text).substr(0, kUtf8Bom.size()) == kUtf8Bom) pos = kUtf8Bom.size();
   while (pos < text.size()) {
     std::size_t eol = text.find('\n', pos);
     if (eol == std::string::npos) eol = text.size();
