@@ -24,7 +24,11 @@ bool finite(const Plane& p) {
 }  // namespace
 
 std::int32_t snap(double px) {
-  return static_cast<std::int32_t>(std::floor(px * kUnitsPerPx + 0.5));
+  // Not floor(s + 0.5): that addition rounds, and sends the largest double below a tie (e.g.
+  // 0.5 - 2^-54) up. s - floor(s) is exact for |s| < 2^52, so the tie test is exact.
+  const double s = px * kUnitsPerPx;
+  const double below = std::floor(s);
+  return static_cast<std::int32_t>(s - below >= 0.5 ? below + 1 : below);
 }
 
 Rgba8 shade(const TriangleSetup& t, float x, float y) {

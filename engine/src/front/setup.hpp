@@ -84,8 +84,8 @@ inline std::uint8_t to_unorm8(float v) {
 /// Why setup produced no triangle.
 enum class SetupReject { kNone, kFace, kDegenerate, kOutside };
 
-/// Rounds a pixel coordinate to 16.8, to nearest (half away from zero in the magnitude sense of
-/// floor(x * 256 + 0.5)). The caller guarantees |x| <= kGuardBandPx.
+/// Rounds a pixel coordinate to 16.8, to nearest, a tie going up (towards +infinity) so that a
+/// shape moved by whole pixels snaps to the same shape. The caller guarantees |x| <= kGuardBandPx.
 std::int32_t snap(double px);
 
 /// Snaps and sets up a triangle for a width × height target.

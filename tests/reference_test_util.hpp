@@ -1,0 +1,272 @@
+// tests/reference_test_util.hpp — helpers shared by the front-end and reference stage tests.
+//
+// Takes: hand-made triangles. Gives: owned meshes, frames rendered by the exact reference through
+// the public API, per-sample coverage read back from the target, and an independent coverage
+// oracle. The oracle and the sample tables are written here again from the specification (the
+// D3D / Vulkan rules and DESIGN.md), not taken from the engine, so that a wrong engine table or
+// a wrong fill-rule bias makes the tests fail instead of agreeing with itself.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "mosaic/mosaic.hpp"
+
+namespace mosaic::test {
+
+/// Subpixel steps per pixel of the 16.8 vertex format (the specification's value).
+inline constexpr int kUnits = 256;
+/// Subpixel steps per 1/16 px sample-offset step (256 / 16).
+inline constexpr int kOffsetUnits = 16;
+
+/// A point in 1/256 px, y down.
+struct Fx {
+  std::int64_t x = 0, y = 0;
+};
+
+/// A standard sample offset in 1/16 px from the pixel centre, y down.
+struct Offset16 {
+  int dx = 0, dy = 0;
+};
+
+/// The standard sample positions (DESIGN.md "Facts to build on"; Vulkan standard locations).
+inline std::span<const Offset16> standard_pattern(int samples) {
+  // clang-format off
+  static const std::array<Offset16, 1> k1{{{0, 0}}};
+  static const std::array<Offset16, 4> k4{{{-2, -6}, {6, -2}, {-6, 2}, {2, 6}}};
+  static const std::array<Offset16, 8> k8{
+      {{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}}};
+  static const std::array<Offset16, 16> k16{
+      {{1, 1}, {-1, -3}, {-3, 2}, {4, -1}, {-5, -2}, {2, 5}, {5, 3}, {3, -5}, {-2, 6}, {0, -7},
+       {-4, -6}, {-6, 4}, {-8, 0}, {7, -4}, {6, 7}, {-7, -8}}};
+  // clang-format on
+  switch (samples) {
+    case 1:
+      return k1;
+    case 4:
+      return k4;
+    case 8:
+      return k8;
+    default:
+      return k16;
+  }
+}
+
+/// Sample `s` of pixel (px, py) in 1/256 px.
+inline Fx sample_fx(int px, int py, int s, int samples) {
+  const Offset16 o = standard_pattern(samples)[static_cast<std::size_t>(s)];
+  return {std::int64_t{px} * kUnits + kUnits / 2 + o.dx * kOffsetUnits,
+          std::int64_t{py} * kUnits + kUnits / 2 + o.dy * kOffsetUnits};
+}
+
+/// The same sample in pixels.
+inline glm::dvec2 sample_px(int px, int py, int s, int samples) {
+  const Fx f = sample_fx(px, py, s, samples);
+  return {static_cast<double>(f.x) / kUnits, static_cast<double>(f.y) / kUnits};
+}
+
+/// Round to the nearest 1/256 px, a tie going up (towards +infinity): the specification of
+/// snapping, written without the engine's formula.
+inline std::int64_t snap_units(double px) {
+  const double scaled = px * kUnits;
+  const double below = std::floor(scaled);
+  return static_cast<std::int64_t>(scaled - below >= 0.5 ? below + 1 : below);
+}
+inline Fx snap_fx(glm::dvec2 p) { return {snap_units(p.x), snap_units(p.y)}; }
+inline glm::dvec2 fx_to_px(Fx p) {
+  return {static_cast<double>(p.x) / kUnits, static_cast<double>(p.y) / kUnits};
+}
+
+/// The coverage oracle for a convex polygon of either winding, in exact integers.
+///
+/// A sample on an edge is decided as if it were nudged by an infinitesimal: D3D's top-left rule is
+/// the nudge (+ε, +ε²) (right, then down, y down), OpenGL's bottom-left rule the nudge (+ε, -ε²).
+/// This is an independent statement of the rule: it also decides vertices (both edges must accept
+/// the nudge), and it makes any triangulation of a polygon cover the same samples.
+/// Coordinates must stay below 2^30 units so that the products fit in int64.
+inline bool oracle_covers(std::span<const Fx> poly, Fx p, FillRule rule) {
+  const std::size_t n = poly.size();
+  std::int64_t area2 = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Fx a = poly[i], b = poly[(i + 1) % n];
+    area2 += a.x * b.y - b.x * a.y;
+  }
+  if (area2 == 0) return false;
+  const std::int64_t orient = area2 > 0 ? 1 : -1;
+  const std::int64_t vertical_nudge = rule == FillRule::kD3D ? 1 : -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Fx a = poly[i], b = poly[(i + 1) % n];
+    const std::int64_t e = orient * ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x));
+    if (e > 0) continue;
+    if (e < 0) return false;
+    const std::int64_t de_dx = -orient * (b.y - a.y);
+    const std::int64_t de_dy = orient * (b.x - a.x);
+    if (de_dx > 0) continue;
+    if (de_dx == 0 && vertical_nudge * de_dy > 0) continue;
+    return false;
+  }
+  return true;
+}
+
+inline bool oracle_covers_tri(Fx a, Fx b, Fx c, Fx p, FillRule rule) {
+  const std::array<Fx, 3> t{a, b, c};
+  return oracle_covers(t, p, rule);
+}
+
+/// Value at q of the plane through (p[k], f[k]), in double (barycentric form).
+inline double plane_at(const std::array<glm::dvec2, 3>& p, const std::array<double, 3>& f,
+                       glm::dvec2 q) {
+  const double d = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (p[1].y - p[0].y);
+  const double l1 = ((q.x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (q.y - p[0].y)) / d;
+  const double l2 = ((p[1].x - p[0].x) * (q.y - p[0].y) - (q.x - p[0].x) * (p[1].y - p[0].y)) / d;
+  return f[0] + l1 * (f[1] - f[0]) + l2 * (f[2] - f[0]);
+}
+
+/// How far a float32 evaluation of that plane may stray from the double value at q: the plane
+/// is f0 + gx (x - x0) + gy (y - y0) with float coefficients, so a few roundings (2^-24 each) of
+/// each term's magnitude. Any real mistake (unsnapped vertices, a swapped slope) is far larger.
+inline double depth_tolerance(const std::array<glm::dvec2, 3>& p, const std::array<double, 3>& f,
+                              glm::dvec2 q) {
+  constexpr double kFloatEpsilon = 0x1p-24;  // half an ulp of 1.0f
+  constexpr double kRoundings = 4;           // slope, product, sum, sum
+  const double f0 = plane_at(p, f, p[0]);
+  const double gx = plane_at(p, f, p[0] + glm::dvec2(1, 0)) - f0;
+  const double gy = plane_at(p, f, p[0] + glm::dvec2(0, 1)) - f0;
+  const double magnitude =
+      std::abs(f0) + std::abs(gx * (q.x - p[0].x)) + std::abs(gy * (q.y - p[0].y)) + 1.0;
+  return kRoundings * kFloatEpsilon * magnitude;
+}
+
+/// Window-homogeneous coordinates (X, Y, W) of a clip-space point for a width × height target:
+/// the pixel it shows is (X / W, Y / W), y down.
+inline glm::dvec3 window_homogeneous(glm::dvec4 clip, int width, int height) {
+  return {(clip.x + clip.w) * width / 2.0, (clip.w - clip.y) * height / 2.0, clip.w};
+}
+
+/// Barycentric weights (summing to 1) of the point of a clip-space triangle that pixel position p
+/// shows, found without clipping or dividing: sum b_i (X_i - p.x W_i) = 0,
+/// sum b_i (Y_i - p.y W_i) = 0, sum b_i = 1, solved by Cramer's rule. Valid for vertices behind
+/// the eye too; a perspective-correct attribute at p is sum b_i a_i.
+inline std::array<double, 3> homogeneous_barycentrics(const std::array<glm::dvec4, 3>& clip,
+                                                      int width, int height, glm::dvec2 p) {
+  std::array<double, 3> u, v;
+  for (int i = 0; i < 3; ++i) {
+    const glm::dvec3 h = window_homogeneous(clip[static_cast<std::size_t>(i)], width, height);
+    u[static_cast<std::size_t>(i)] = h.x - p.x * h.z;
+    v[static_cast<std::size_t>(i)] = h.y - p.y * h.z;
+  }
+  // Rows (u), (v), (1 1 1); right-hand side (0, 0, 1): b_i is the cofactor along the last row.
+  const double c0 = u[1] * v[2] - u[2] * v[1];
+  const double c1 = u[2] * v[0] - u[0] * v[2];
+  const double c2 = u[0] * v[1] - u[1] * v[0];
+  const double det = c0 + c1 + c2;
+  return {c0 / det, c1 / det, c2 / det};
+}
+
+/// A screen-space mesh of flat-coloured triangles, drawn with `state`.
+inline Mesh screen_mesh(DrawState state = {}) {
+  Mesh m;
+  m.space = Space::kScreen;
+  m.color_source = ColorSource::kPerTriangle;
+  m.state = state;
+  return m;
+}
+
+/// Appends a screen-space triangle (pixels, y down) with one colour and one depth.
+inline void add_tri(Mesh& m, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, Rgba8 color,
+                    float z = 0.5f) {
+  for (const glm::dvec2& p : {a, b, c})
+    m.positions.emplace_back(static_cast<float>(p.x), static_cast<float>(p.y), z, 1.0f);
+  m.colors.push_back(color);
+}
+inline void add_tri_fx(Mesh& m, Fx a, Fx b, Fx c, Rgba8 color, float z = 0.5f) {
+  add_tri(m, fx_to_px(a), fx_to_px(b), fx_to_px(c), color, z);
+}
+
+/// Frame-level switches of a test render.
+struct FrameOptions {
+  bool painter = false;
+  bool ssaa = false;
+};
+
+/// Renders `meshes` as one frame with the exact reference, through the public API.
+inline FrameStats render_reference(const std::vector<Mesh>& meshes, RenderTarget& target,
+                                   FrameOptions options = {}) {
+  std::vector<Draw> draws;
+  for (const Mesh& m : meshes) draws.push_back(m.draw());
+  Frame frame;
+  frame.draws = draws;
+  frame.painter = options.painter;
+  frame.ssaa = options.ssaa;
+  RendererOptions ro;
+  ro.threads = 1;
+  ro.isa = Isa::kReference;
+  Renderer renderer(ro);
+  return renderer.render(frame, target);
+}
+inline FrameStats render_reference(const Mesh& mesh, RenderTarget& target,
+                                   FrameOptions options = {}) {
+  return render_reference(std::vector<Mesh>{mesh}, target, options);
+}
+
+/// A clear colour that no test triangle uses (its alpha is never 255).
+inline constexpr Rgba8 kClear{1, 2, 3, 4};
+
+/// A target that keeps per-sample colour and depth, cleared to kClear.
+inline RenderTarget sample_target(int width, int height, int samples) {
+  RenderTarget t(width, height, samples, TargetOptions{true, true});
+  t.set_clear(kClear);
+  return t;
+}
+
+/// Colour number `i` (up to 2^16 of them), never equal to kClear.
+inline Rgba8 distinct_color(std::uint32_t i) {
+  return {static_cast<std::uint8_t>(i & 0xff), static_cast<std::uint8_t>((i >> 8) & 0xff), 200,
+          255};
+}
+
+/// Index of sample s of pixel (x, y) in the per-sample buffers.
+inline std::size_t sample_index(const RenderTarget& t, int x, int y, int s) {
+  return (static_cast<std::size_t>(y) * static_cast<std::size_t>(t.width()) +
+          static_cast<std::size_t>(x)) *
+             static_cast<std::size_t>(t.samples()) +
+         static_cast<std::size_t>(s);
+}
+
+/// Per-sample coverage of the last frame: samples whose colour is not kClear.
+inline std::vector<bool> covered_samples(const RenderTarget& t) {
+  std::vector<bool> out(t.sample_color().size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = !(t.sample_color()[i] == kClear);
+  return out;
+}
+inline std::size_t count_covered(const RenderTarget& t) {
+  std::size_t n = 0;
+  for (const Rgba8& c : t.sample_color()) n += c == kClear ? 0 : 1;
+  return n;
+}
+
+/// A small deterministic random source (raw mt19937_64 bits, so results do not depend on the
+/// standard library's distributions).
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : gen_(seed) {}
+  /// Uniform integer in [lo, hi].
+  std::int64_t range(std::int64_t lo, std::int64_t hi) {
+    return lo + static_cast<std::int64_t>(gen_() % static_cast<std::uint64_t>(hi - lo + 1));
+  }
+  /// Uniform double in [0, 1).
+  double unit() { return static_cast<double>(gen_() >> 11) * 0x1p-53; }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * unit(); }
+  bool coin() { return (gen_() >> 63) != 0; }
+
+ private:
+  std::mt19937_64 gen_;
+};
+
+}  // namespace mosaic::test
