@@ -36,22 +36,18 @@ std::uint32_t viewport_outcode(const ClipVertex& v, double width, double height)
   return code;
 }
 
-bool lexicographically_less(const ClipVertex& a, const ClipVertex& b) {
-  if (a.X != b.X) return a.X < b.X;
-  if (a.Y != b.Y) return a.Y < b.Y;
-  if (a.Z != b.Z) return a.Z < b.Z;
-  return a.W < b.W;
-}
-
-// The point where segment (p, q) crosses `plane`. The result depends only on the unordered pair
-// {p, q}, which keeps shared edges identical in the two triangles that clip them.
+// The point where segment (p, q) crosses `plane`, where exactly one of p, q is inside it. The
+// interpolation starts from the inside end: the result then depends only on the unordered pair
+// {p, q}, which keeps shared edges identical in the two triangles that clip them, and it stays
+// accurate when the outside end is huge. (Starting from a vertex at 1e30 px rounds t to 1 and
+// a + (b - a) * t to garbage: 1e30 + (20 - 1e30) is 0, not 20.)
 ClipVertex intersect(const ClipVertex& p, const ClipVertex& q, int plane) {
-  const bool swap = lexicographically_less(q, p);
-  const ClipVertex& a = swap ? q : p;
-  const ClipVertex& b = swap ? p : q;
+  const bool p_inside = distance(p, plane) >= 0;
+  const ClipVertex& a = p_inside ? p : q;
+  const ClipVertex& b = p_inside ? q : p;
   const double da = distance(a, plane);
   const double db = distance(b, plane);
-  const double t = da / (da - db);
+  const double t = da / (da - db);  // in [0, 1): da >= 0 > db
   ClipVertex r;
   r.X = a.X + (b.X - a.X) * t;
   r.Y = a.Y + (b.Y - a.Y) * t;

@@ -5,8 +5,9 @@
 // camera (Z >= 0), before the far plane (Z <= W) and inside the guard band
 // |X / W|, |Y / W| <= kGuardBandPx, or nothing.
 //
-// Clipping is watertight: the point where a shared edge meets a plane is computed from the
-// edge's two endpoints in a canonical order, so both triangles sharing the edge get the same bits.
+// Clipping is watertight: the point where a shared edge meets a plane is interpolated from the
+// edge's endpoint inside the plane towards the other, an order that does not depend on the
+// triangle, so both triangles sharing the edge get the same bits.
 #pragma once
 
 #include <array>
