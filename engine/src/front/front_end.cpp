@@ -123,20 +123,30 @@ void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t beg
       ++stats.degenerate;
       continue;
     }
-    // A clipped polygon is drawn as a fan around its first vertex.
+    // A clipped polygon is drawn as a fan around its first vertex. The rejection counters count
+    // submitted triangles: a polygon none of whose pieces is drawn counts once, face culling
+    // first (every piece has the polygon's winding); a piece rejected beside drawn ones is a
+    // sliver or an off-screen part of a drawn triangle and is not counted.
+    bool any_drawn = false, any_face = false, any_outside = false;
     for (int k = 1; k + 1 < poly.count; ++k) {
       TriangleSetup ts;
       const SetupReject why = setup_triangle({sv[0], sv[k], sv[k + 1]}, draw.state, width, height,
                                              per_vertex, flat, ts);
-      switch (why) {
-        case SetupReject::kFace: ++stats.culled_face; continue;
-        case SetupReject::kDegenerate: ++stats.degenerate; continue;
-        case SetupReject::kOutside: ++stats.outside; continue;
-        case SetupReject::kNone: break;
-      }
+      any_face = any_face || why == SetupReject::kFace;
+      any_outside = any_outside || why == SetupReject::kOutside;
+      if (why != SetupReject::kNone) continue;
       ts.draw = draw_index;
       ++stats.drawn;
+      any_drawn = true;
       out.push_back(ts);
+    }
+    if (any_drawn) continue;
+    if (any_face) {
+      ++stats.culled_face;
+    } else if (any_outside) {
+      ++stats.outside;
+    } else {
+      ++stats.degenerate;
     }
   }
 }

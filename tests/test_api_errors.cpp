@@ -1,0 +1,258 @@
+// Rejected input at the public API: every error is a mosaic::Error with the documented Errc and a
+// one-line message, and a rejected frame leaves the render target exactly as it was. Triangles
+// with NaN or infinite coordinates are not errors: they are culled, counted, and leave the other
+// triangles' pixels untouched.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "reference_test_util.hpp"
+
+namespace mosaic {
+namespace {
+
+template <class F>
+void expect_error(Errc code, F&& f) {
+  try {
+    f();
+    ADD_FAILURE() << "no mosaic::Error thrown";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), code) << e.what();
+    const std::string what = e.what();
+    EXPECT_FALSE(what.empty());
+    EXPECT_EQ(what.find('\n'), std::string::npos) << "message is not one line: " << what;
+  }
+}
+
+TEST(ApiErrors, RenderTargetSize) {
+  for (int bad : {0, -1, kMaxTargetSize + 1, std::numeric_limits<int>::min()}) {
+    expect_error(Errc::kInvalidTargetSize, [&] { RenderTarget t(bad, 8); });
+    expect_error(Errc::kInvalidTargetSize, [&] { RenderTarget t(8, bad); });
+  }
+  EXPECT_EQ(kMaxTargetSize, 16384);
+  EXPECT_NO_THROW(RenderTarget(kMaxTargetSize, 1));
+  EXPECT_NO_THROW(RenderTarget(1, kMaxTargetSize));
+  EXPECT_NO_THROW(RenderTarget(1, 1));
+}
+
+TEST(ApiErrors, RenderTargetSampleCount) {
+  for (int bad : {0, 2, 3, 5, 32, -4}) {
+    expect_error(Errc::kUnsupportedSampleCount, [&] { RenderTarget t(8, 8, bad); });
+  }
+  for (int good : {1, 4, 8, 16}) {
+    RenderTarget t(8, 8, good);
+    EXPECT_EQ(t.samples(), good);
+  }
+}
+
+TEST(ApiErrors, ClearDepthMustBeFinite) {
+  RenderTarget t(4, 4);
+  t.set_clear({9, 8, 7, 6}, 0.25f);
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                    -std::numeric_limits<float>::infinity()}) {
+    expect_error(Errc::kInvalidArgument, [&] { t.set_clear({1, 2, 3, 4}, bad); });
+    EXPECT_EQ(t.clear_color(), (Rgba8{9, 8, 7, 6}));  // unchanged by the rejected call
+    EXPECT_EQ(t.clear_depth(), 0.25f);
+  }
+}
+
+TEST(ApiErrors, RendererOptions) {
+  expect_error(Errc::kInvalidArgument, [] {
+    RendererOptions o;
+    o.threads = -1;
+    Renderer r(o);
+  });
+  RendererOptions zero;
+  zero.threads = 0;
+  EXPECT_NO_THROW(Renderer{zero});
+  // Every ISA that available_isas() does not list is refused.
+  const std::vector<Isa> have = available_isas();
+  ASSERT_FALSE(have.empty());
+  EXPECT_EQ(have.front(), Isa::kReference);
+  for (Isa isa : {Isa::kReference, Isa::kSse41, Isa::kAvx2, Isa::kAvx512}) {
+    RendererOptions o;
+    o.isa = isa;
+    if (std::find(have.begin(), have.end(), isa) != have.end()) {
+      EXPECT_EQ(Renderer(o).isa(), isa);
+    } else {
+      expect_error(Errc::kUnsupportedIsa, [&] { Renderer r(o); });
+    }
+  }
+}
+
+// A frame rendered first, then a bad one: the bad one must throw the expected code from every
+// renderer and leave the target's image and sample buffers as the good frame left them.
+class BadDraw : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    good_ = test::screen_mesh();
+    test::add_tri(good_, {1, 1}, {14, 2}, {3, 13}, {200, 30, 60, 255});
+    test::add_tri(good_, {15, 15}, {2, 14}, {13, 3}, {20, 230, 60, 255});
+  }
+
+  void expect_rejected(Errc code, const std::vector<Draw>& bad_draws) {
+    std::vector<Isa> isas = available_isas();
+    isas.push_back(Isa::kAuto);
+    for (Isa isa : isas) {
+      SCOPED_TRACE(to_string(isa));
+      RendererOptions o;
+      o.isa = isa;
+      o.threads = 2;
+      Renderer r(o);
+      RenderTarget t(16, 16, 4, TargetOptions{true, true});
+      const Draw g = good_.draw();
+      Frame good;
+      good.draws = std::span<const Draw>(&g, 1);
+      r.render(good, t);
+      const std::vector<Rgba8> color(t.color().begin(), t.color().end());
+      const std::vector<Rgba8> sample_color(t.sample_color().begin(), t.sample_color().end());
+      const std::vector<float> sample_depth(t.sample_depth().begin(), t.sample_depth().end());
+      const std::uint64_t hash = t.image_hash();
+      ASSERT_NE(std::count(color.begin(), color.end(), Rgba8{0, 0, 0, 255}), 256);
+      Frame bad;
+      bad.draws = bad_draws;
+      expect_error(code, [&] { r.render(bad, t); });
+      expect_error(code, [&] { validate(bad, t); });
+      EXPECT_TRUE(std::equal(color.begin(), color.end(), t.color().begin(), t.color().end()));
+      EXPECT_TRUE(std::equal(sample_color.begin(), sample_color.end(), t.sample_color().begin(),
+                             t.sample_color().end()));
+      EXPECT_TRUE(std::equal(sample_depth.begin(), sample_depth.end(), t.sample_depth().begin(),
+                             t.sample_depth().end()));
+      EXPECT_EQ(t.image_hash(), hash);
+    }
+  }
+
+  Mesh good_;
+};
+
+TEST_F(BadDraw, IndexOutOfRange) {
+  Mesh m = good_;
+  m.indices = {0, 1, 2, 3, 4, 6};  // 6 vertices: index 6 does not exist
+  expect_rejected(Errc::kIndexOutOfRange, {good_.draw(), m.draw()});
+  m.indices = {0, 1, 0xffffffffu};
+  m.colors.resize(1);
+  expect_rejected(Errc::kIndexOutOfRange, {m.draw()});
+  // Indices into an empty vertex buffer.
+  Mesh empty = test::screen_mesh();
+  empty.indices = {0, 0, 0};
+  empty.colors = {{1, 2, 3, 255}};
+  expect_rejected(Errc::kIndexOutOfRange, {empty.draw()});
+}
+
+TEST_F(BadDraw, IndexCountNotAMultipleOfThree) {
+  Mesh m = good_;
+  m.indices = {0, 1, 2, 3};
+  expect_rejected(Errc::kInvalidDraw, {m.draw()});
+}
+
+TEST_F(BadDraw, VertexCountNotAMultipleOfThreeWithoutIndices) {
+  Mesh m = good_;
+  m.positions.pop_back();
+  expect_rejected(Errc::kInvalidDraw, {good_.draw(), m.draw()});
+}
+
+TEST_F(BadDraw, ColourCountMismatch) {
+  Mesh per_triangle = good_;  // 2 triangles
+  per_triangle.colors.pop_back();
+  expect_rejected(Errc::kInvalidDraw, {per_triangle.draw()});
+  per_triangle.colors = {{1, 1, 1, 255}, {1, 1, 1, 255}, {1, 1, 1, 255}};
+  expect_rejected(Errc::kInvalidDraw, {per_triangle.draw()});
+  Mesh per_vertex = good_;  // 6 vertices
+  per_vertex.color_source = ColorSource::kPerVertex;
+  per_vertex.colors.assign(5, {1, 1, 1, 255});
+  expect_rejected(Errc::kInvalidDraw, {good_.draw(), per_vertex.draw()});
+  per_vertex.colors.clear();
+  expect_rejected(Errc::kInvalidDraw, {per_vertex.draw()});
+}
+
+TEST_F(BadDraw, BothPositionKinds) {
+  const std::vector<glm::vec3> xyz(6, glm::vec3(0));
+  Draw d = good_.draw();
+  d.positions_xyz = xyz;
+  expect_rejected(Errc::kInvalidDraw, {d});
+}
+
+// --- Non-finite coordinates --------------------------------------------------------------------
+
+TEST(ApiNonFinite, BadTrianglesAreCulledAndDoNotDisturbTheOthers) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  // Neighbouring triangles sharing edges with the bad ones' finite vertices.
+  const std::vector<glm::vec4> good{{2, 2, 0.5f, 1},  {20, 3, 0.5f, 1},  {4, 20, 0.5f, 1},
+                                    {20, 3, 0.5f, 1}, {22, 22, 0.4f, 1}, {4, 20, 0.5f, 1}};
+  const std::vector<std::vector<glm::vec4>> bad{
+      {{20, 3, 0.5f, 1}, {nan, 10, 0.5f, 1}, {22, 22, 0.5f, 1}},
+      {{inf, 3, 0.5f, 1}, {30, 10, 0.5f, 1}, {22, 22, 0.5f, 1}},
+      {{20, 3, 0.5f, 1}, {30, -inf, 0.5f, 1}, {22, 22, 0.5f, 1}},
+      {{20, 3, nan, 1}, {30, 10, 0.5f, 1}, {22, 22, 0.5f, 1}},
+      {{20, 3, 0.5f, 1}, {30, 10, 0.5f, inf}, {22, 22, 0.5f, 1}},
+      {{nan, nan, nan, nan}, {nan, nan, nan, nan}, {nan, nan, nan, nan}},
+  };
+  for (Space space : {Space::kScreen, Space::kClip}) {
+    Mesh ref;
+    ref.space = space;
+    ref.positions = good;
+    if (space == Space::kClip)  // the same pixels: NDC = pixel / 16 - 1 on a 32x32 target
+      for (glm::vec4& p : ref.positions) p = {p.x / 16 - 1, 1 - p.y / 16, p.z, 1};
+    RenderTarget expect_t(32, 32, 4);
+    const FrameStats expect_s = test::render_reference(ref, expect_t);
+    for (std::size_t i = 0; i < bad.size(); ++i) {
+      SCOPED_TRACE(i);
+      Mesh m = ref;
+      // The bad triangle goes first, in the middle and last.
+      for (int where : {0, 1, 2}) {
+        m.positions = ref.positions;
+        std::vector<glm::vec4> b = bad[i];
+        if (space == Space::kClip)
+          for (glm::vec4& p : b)
+            if (std::isfinite(p.x) && std::isfinite(p.y))
+              p = {p.x / 16 - 1, 1 - p.y / 16, p.z, p.w};
+        m.positions.insert(m.positions.begin() + 3 * where, b.begin(), b.end());
+        RenderTarget t(32, 32, 4);
+        const FrameStats s = test::render_reference(m, t);
+        EXPECT_EQ(s.triangles_in, 3u);
+        EXPECT_EQ(s.triangles_nonfinite, 1u);
+        EXPECT_EQ(s.triangles_drawn, expect_s.triangles_drawn);
+        EXPECT_EQ(s.samples_written, expect_s.samples_written);
+        EXPECT_EQ(t.image_hash(), expect_t.image_hash());
+      }
+    }
+  }
+}
+
+TEST(ApiNonFinite, TransformedPositions) {
+  // positions_xyz through a transform: NaN in a position culls that triangle only; NaN or Inf in
+  // the matrix culls every triangle.
+  const std::vector<glm::vec3> xyz{
+      {-0.8f, -0.8f, 0.5f}, {0.8f, -0.7f, 0.5f},
+      {0, 0.8f, 0.5f},      {std::numeric_limits<float>::quiet_NaN(), 0, 0.5f},
+      {0.5f, 0.5f, 0.5f},   {0, 0.5f, 0.5f}};
+  Draw d;
+  d.positions_xyz = xyz;
+  Frame f;
+  f.draws = std::span<const Draw>(&d, 1);
+  RendererOptions o;
+  o.isa = Isa::kReference;
+  Renderer r(o);
+  RenderTarget t(16, 16);
+  FrameStats s = r.render(f, t);
+  EXPECT_EQ(s.triangles_in, 2u);
+  EXPECT_EQ(s.triangles_nonfinite, 1u);
+  EXPECT_EQ(s.triangles_drawn, 1u);
+  for (float bad :
+       {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    d.transform = glm::mat4(1.0f);
+    d.transform[3][0] = bad;  // translation x
+    s = r.render(f, t);
+    EXPECT_EQ(s.triangles_nonfinite, 2u);
+    EXPECT_EQ(s.triangles_drawn, 0u);
+    EXPECT_EQ(std::count(t.color().begin(), t.color().end(), t.clear_color()), 256);
+  }
+}
+
+}  // namespace
+}  // namespace mosaic
