@@ -176,7 +176,7 @@ TEST_F(BadDraw, BothPositionKinds) {
   expect_rejected(Errc::kInvalidDraw, {d});
 }
 
-// --- Non-finite coordinates --------------------------------------------------------------------
+// --- Non-finite coordinates ----------------------------------------------------------------------
 
 TEST(ApiNonFinite, BadTrianglesAreCulledAndDoNotDisturbTheOthers) {
   const float nan = std::numeric_limits<float>::quiet_NaN();

@@ -29,7 +29,7 @@ front::ClipVertex cv(double X, double Y, double Z, double W) {
   return v;
 }
 
-// --- clip_triangle on its own -------------------------------------------------------------------
+// --- clip_triangle on its own --------------------------------------------------------------------
 
 TEST(FrontClip, InsideCulledAndClipped) {
   front::ClipPolygon out;
@@ -69,6 +69,10 @@ double line_distance(glm::dvec2 a, glm::dvec2 b, glm::dvec2 q) {
   return std::abs((q.x - a.x) * (d.y / len) - (q.y - a.y) * (d.x / len));
 }
 
+// How far a clipped vertex may lie from its edge line: far below the 1/512 px snapping error,
+// far above double rounding at guard-band magnitudes (~1e-11 px).
+constexpr double kOnLine = 1.0 / 1024;
+
 TEST(FrontClip, GuardBandCrossingsStayOnTheEdgeLines) {
   // One vertex near the viewport, two far away. Every vertex of the clipped polygon must be a
   // corner of the guard band or lie on one of the triangle's edge lines, to well within 1/1024 px,
@@ -96,16 +100,15 @@ TEST(FrontClip, GuardBandCrossingsStayOnTheEdgeLines) {
           double nearest = 1e300;
           for (int e = 0; e < 3; ++e)
             nearest = std::min(nearest, line_distance(p[e], p[(e + 1) % 3], q));
-          EXPECT_LT(nearest, 1.0 / 1024) << "r " << r << " d " << d.x << "," << d.y << " d2 "
-                                         << d2.x << "," << d2.y << " vertex " << q.x << "," << q.y;
+          EXPECT_LT(nearest, kOnLine) << "r " << r << " d " << d.x << "," << d.y << " d2 " << d2.x
+                                      << "," << d2.y << " vertex " << q.x << "," << q.y;
         }
       }
     }
   }
 }
 
-// --- Near plane, rendered
-// -------------------------------------------------------------------------
+// --- Near plane, rendered ------------------------------------------------------------------------
 
 Mesh clip_mesh(const std::vector<glm::vec4>& positions, Rgba8 color = {200, 100, 50, 255}) {
   Mesh m;

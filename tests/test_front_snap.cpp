@@ -71,7 +71,7 @@ TEST(FrontSnap, WholePixelTranslationMovesTheSnappedPointByWholePixels) {
   }
 }
 
-// --- Viewport ---------------------------------------------------------------------------------
+// --- Viewport ------------------------------------------------------------------------------------
 
 // A clip-space mesh of one constant colour; each corner (ndc x, ndc y) becomes (x w, y w, z w, w).
 Mesh clip_rect(double x0, double y0, double x1, double y1, float w, float z_ndc, Rgba8 color) {

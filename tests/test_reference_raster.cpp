@@ -245,7 +245,7 @@ TEST(ReferenceFill, FanAroundAVertexOnASampleCoversItOnce) {
   }
 }
 
-// --- Full-screen triangulation ----------------------------------------------------------------
+// --- Full-screen triangulation -------------------------------------------------------------------
 
 struct Grid {
   static constexpr int kCols = 17, kRows = 13;  // vertices
