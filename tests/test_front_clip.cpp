@@ -287,6 +287,36 @@ TEST(FrontClipRender, SharedEdgeAcrossTheNearPlaneIsWatertight) {
   EXPECT_GT(seen, 400);
 }
 
+// Depth error allowed where depths are below 1 and slopes 1/32 per px: a few float32 roundings.
+constexpr double kDepthTolerance = 1e-6;
+
+TEST(FrontClipRender, DepthOutsideZeroToOneIsClippedAway) {
+  // A screen-space rectangle whose depth runs from -0.5 at x = 0 to 1.5 at x = 64: only the
+  // band 16 <= x <= 48 lies within [0, 1], where the depth is (x - 16) / 32. Both clipped edges
+  // fall on whole pixels, between samples.
+  for (int samples : {1, 4}) {
+    Mesh m = test::screen_mesh();
+    m.positions = {{0, 2, -0.5f, 1}, {64, 2, 1.5f, 1},  {64, 30, 1.5f, 1},
+                   {0, 2, -0.5f, 1}, {64, 30, 1.5f, 1}, {0, 30, -0.5f, 1}};
+    m.colors = {{255, 0, 0, 255}, {255, 0, 0, 255}};
+    m.state.depth_test = DepthTest::kAlways;
+    RenderTarget t = test::sample_target(64, 32, samples);
+    const FrameStats s = test::render_reference(m, t);
+    EXPECT_EQ(s.triangles_clipped, 2u);
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 64; ++x)
+        for (int k = 0; k < samples; ++k) {
+          const glm::dvec2 q = test::sample_px(x, y, k, samples);
+          const bool expect = q.x > 16 && q.x < 48 && q.y > 2 && q.y < 30;
+          const std::size_t i = test::sample_index(t, x, y, k);
+          ASSERT_EQ(!(t.sample_color()[i] == test::kClear), expect) << x << "," << y << "/" << k;
+          if (expect) {
+            EXPECT_NEAR(t.sample_depth()[i], (q.x - 16) / 32, kDepthTolerance);
+          }
+        }
+  }
+}
+
 // --- Guard band, rendered ------------------------------------------------------------------------
 
 // Signed distance (px) from q to the line through a and b, positive on the side of `inside`,
