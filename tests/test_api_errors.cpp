@@ -256,3 +256,44 @@ TEST(ApiNonFinite, TransformedPositions) {
 
 }  // namespace
 }  // namespace mosaic
+
+namespace mosaic {
+namespace {
+
+TEST(ApiRobustness, ExtremeFiniteCoordinatesNeverCrash) {
+  // Finite but hostile vertices: w of 0, negative, tiny and huge; coordinates up to float's
+  // limits. Each frame must render without throwing, and every submitted triangle must end up
+  // drawn (possibly in pieces) or counted under exactly one rejection.
+  test::Rng rng(71);
+  const float magnitudes[] = {0.0f, 1e-38f, 1e-30f, 1e-6f, 0.5f,   1.0f,
+                              3.0f, 1e4f,   1e6f,   1e30f, 3.4e38f};
+  auto value = [&] {
+    const float m = magnitudes[rng.range(0, std::size(magnitudes) - 1)];
+    return static_cast<float>(m * rng.uniform(-1, 1));
+  };
+  for (Space space : {Space::kScreen, Space::kClip}) {
+    for (int samples : {1, 4}) {
+      Mesh m;
+      m.space = space;
+      m.color_source = ColorSource::kPerVertex;
+      for (int i = 0; i < 3 * 400; ++i) {
+        m.positions.push_back({value(), value(), value(), value()});
+        m.colors.push_back({static_cast<std::uint8_t>(rng.range(0, 255)), 7, 9, 255});
+      }
+      m.state.depth_test = DepthTest::kAlways;
+      RenderTarget t = test::sample_target(24, 16, samples);
+      FrameStats s;
+      ASSERT_NO_THROW(s = test::render_reference(m, t));
+      EXPECT_EQ(s.triangles_in, 400u);
+      EXPECT_LE(s.triangles_nonfinite + s.triangles_culled_face + s.triangles_degenerate +
+                    s.triangles_outside,
+                s.triangles_in);
+      EXPECT_GE(s.samples_written, test::count_covered(t));
+      EXPECT_GT(s.triangles_drawn, 0u);
+      for (float d : t.sample_depth()) ASSERT_TRUE(d >= 0.0f && d <= 1.0f) << d;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mosaic

@@ -13,6 +13,7 @@
 
 #include "front/clip.hpp"
 #include "front/fixed_point.hpp"
+#include "reference/reference.hpp"
 #include "reference_test_util.hpp"
 
 namespace mosaic {
@@ -106,6 +107,58 @@ TEST(FrontClip, GuardBandCrossingsStayOnTheEdgeLines) {
       }
     }
   }
+}
+
+// Checks every set-up triangle of a frame against the 16.8 budget of front/fixed_point.hpp:
+// snapped coordinates within the guard band, so edge coefficients within 2 * 2^15 * 256.
+void expect_within_budget(const std::vector<glm::vec4>& positions, Space space) {
+  constexpr std::int64_t kMaxCoefficient = std::int64_t{2} * front::kGuardBandPx * 256;
+  Draw d;
+  d.space = space;
+  d.positions = positions;
+  Frame f;
+  f.draws = std::span<const Draw>(&d, 1);
+  FrameStats stats;
+  const std::vector<front::TriangleSetup> tris = reference::setup_frame(f, 24, 16, stats);
+  for (const front::TriangleSetup& t : tris) {
+    for (const front::EdgeFunction& e : t.edge) {
+      ASSERT_LE(std::abs(e.a), kMaxCoefficient);
+      ASSERT_LE(std::abs(e.b), kMaxCoefficient);
+    }
+    ASSERT_LE(std::abs(t.x0), front::kGuardBandPx);
+    ASSERT_LE(std::abs(t.y0), front::kGuardBandPx);
+    ASSERT_TRUE(0 <= t.bx0 && t.bx0 < t.bx1 && t.bx1 <= 24 && 0 <= t.by0 && t.by0 < t.by1 &&
+                t.by1 <= 16);
+  }
+}
+
+TEST(FrontClip, HostileVerticesStayWithinTheFixedPointBudget) {
+  // Found by fuzzing (screen space, whose w is not checked): w of -0 or ~1e-39 beside
+  // coordinates near 1e38. Clipping only against the
+  // planes the original vertices violated left a crossing point at y = -4e8 px, whose snap
+  // overflowed int32.
+  expect_within_budget({{9.79471229e+37f, -0.564283371f, 0.310376287f, -0.0f},
+                        {-1.83992142e+38f, 738454.562f, -9071.94629f, 2690.12256f},
+                        {-7368.23389f, 5479.78613f, 1.55987462e+29f, 6.52395685e+29f}},
+                       Space::kScreen);
+  expect_within_budget({{4.06893634e-40f, 5.58979366e-07f, 1.32157007e+38f, 6.02558965e+29f},
+                        {-5.70514007e-39f, -0.0776310489f, 7.15457995e-32f, -6.48046029e-39f},
+                        {-0.545946658f, 0.739517808f, -2.60911833e-31f, 902924.875f}},
+                       Space::kScreen);
+  // And a batch of random hostile ones in both spaces.
+  test::Rng rng(73);
+  const float magnitudes[] = {0.0f, 1e-38f, 1e-30f, 1e-6f, 0.5f,   1.0f,
+                              3.0f, 1e4f,   1e6f,   1e30f, 3.4e38f};
+  std::vector<glm::vec4> positions;
+  for (int i = 0; i < 3 * 20000; ++i) {
+    auto value = [&] {
+      return static_cast<float>(magnitudes[rng.range(0, std::size(magnitudes) - 1)] *
+                                rng.uniform(-1, 1));
+    };
+    positions.push_back({value(), value(), value(), value()});
+  }
+  expect_within_budget(positions, Space::kClip);
+  expect_within_budget(positions, Space::kScreen);
 }
 
 // --- Near plane, rendered ------------------------------------------------------------------------

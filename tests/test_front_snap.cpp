@@ -25,6 +25,9 @@ TEST(FrontSnap, ValuesOnTheGridAreExact) {
   EXPECT_EQ(front::snap(32768.0), 1 << 23);
   EXPECT_EQ(front::snap(-32768.0), -(1 << 23));
   EXPECT_EQ(front::snap(32767.99609375), (1 << 23) - 1);  // 32768 - 1/256
+  // Beyond the guard band (clipping rounding on extreme input) it saturates instead of wrapping.
+  EXPECT_EQ(front::snap(4.4e8), 1 << 23);
+  EXPECT_EQ(front::snap(-1e300), -(1 << 23));
 }
 
 TEST(FrontSnap, ValuesBetweenStepsRoundToNearest) {

@@ -82,14 +82,19 @@ ClipResult clip_triangle(const std::array<ClipVertex, 3>& in, double width, doub
       if (distance(v, p) < 0) outside_any |= 1u << p;
   if (outside_any == 0) return ClipResult::kInside;
 
-  // Sutherland–Hodgman, one plane at a time, only against the planes some vertex violates.
+  // Sutherland–Hodgman, one plane at a time, only against the planes some vertex of the current
+  // polygon violates. Not the triangle's: a crossing point lies between its edge's ends only up
+  // to rounding, and next to coordinates of 1e38 that rounding can leave it far outside a plane
+  // that no original vertex violated.
   ClipPolygon a, b;
   a.count = 3;
   for (int i = 0; i < 3; ++i) a.v[i] = in[i];
   ClipPolygon* src = &a;
   ClipPolygon* dst = &b;
   for (int p = 0; p < kPlaneCount; ++p) {
-    if (!(outside_any & (1u << p))) continue;
+    bool violated = false;
+    for (int i = 0; i < src->count; ++i) violated = violated || distance(src->v[i], p) < 0;
+    if (!violated) continue;
     dst->count = 0;
     for (int i = 0; i < src->count; ++i) {
       const ClipVertex& cur = src->v[i];

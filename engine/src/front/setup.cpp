@@ -24,6 +24,10 @@ bool finite(const Plane& p) {
 }  // namespace
 
 std::int32_t snap(double px) {
+  // Clipping keeps |px| <= kGuardBandPx up to rounding, and on hostile input (w near 0 beside
+  // coordinates near 1e38) rounding can be large: clamp, so that the conversion below is defined.
+  constexpr double kLimit = kGuardBandPx;
+  px = std::clamp(px, -kLimit, kLimit);
   // Not floor(s + 0.5): that addition rounds, and sends the largest double below a tie (e.g.
   // 0.5 - 2^-54) up. s - floor(s) is exact for |s| < 2^52, so the tie test is exact.
   const double s = px * kUnitsPerPx;

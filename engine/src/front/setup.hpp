@@ -85,7 +85,8 @@ inline std::uint8_t to_unorm8(float v) {
 enum class SetupReject { kNone, kFace, kDegenerate, kOutside };
 
 /// Rounds a pixel coordinate to 16.8, to nearest, a tie going up (towards +infinity) so that a
-/// shape moved by whole pixels snaps to the same shape. The caller guarantees |x| <= kGuardBandPx.
+/// shape moved by whole pixels snaps to the same shape. |x| is at most kGuardBandPx after clipping;
+/// anything beyond (only rounding on extreme input) is clamped to it. x must not be NaN.
 std::int32_t snap(double px);
 
 /// Snaps and sets up a triangle for a width × height target.
