@@ -7,10 +7,11 @@
 // counts (OpenGL fill rule, depth test off: GL_SAMPLES_PASSED against samples_written); and,
 // with --json, all of it with every frame time.
 //
-// "unexplained" counts 1x pixels more than colour rounding apart whose centre is not a depth
-// near-tie (two triangles within float32 evaluation error of each other in exact depth); it
-// must be 0, as must every 1x difference beyond rounding with the depth test off, and every
-// covered-sample count must be equal: otherwise the command exits with status 1.
+// Images may differ by 1 per channel: colour rounding, and at 4x the resolve (llvmpipe rounds
+// a mean ending in .5 to even, mosaic up). "unexplained" counts pixels more than 1 apart none of
+// whose samples is a depth near-tie (two triangles within float32 evaluation error of each
+// other in exact depth). It must be 0, as must every difference beyond rounding with the depth
+// test off, and every covered-sample count must be equal: otherwise the command exits with 1.
 //
 // llvmpipe reads LP_NUM_THREADS when its EGL display is initialised, so the thread count is the
 // outer loop: one llvmpipe context (and one mosaic::Renderer) per thread count, in turn.
@@ -32,6 +33,7 @@
 
 #include "llvmpipe/llvmpipe_peer.hpp"
 #include "mosaic/mosaic.hpp"
+#include "raster/sample_patterns.hpp"
 
 namespace {
 
@@ -65,6 +67,8 @@ constexpr int kRoundingDifference = 1;
 // the first vertex, llvmpipe from its own origin), so either may order them either way.
 constexpr double kTieUlps = 4.0;
 constexpr double kFloatEpsilon = 0x1.0p-24;  // half an ulp of 1: float32 rounding, relative
+// Vertex positions are snapped to 1/256 px, round to nearest (GL_SUBPIXEL_BITS = 8 on llvmpipe).
+constexpr double kSubpixelOne = 256.0;
 
 // One triangle of the scene with its exact depth plane, for the near-tie check.
 struct ExactTriangle {
@@ -77,8 +81,13 @@ std::vector<ExactTriangle> exact_triangles(const mosaic::Scene& scene) {
   for (const mosaic::Mesh& m : scene.meshes) {
     for (std::size_t t = 0; t < m.triangle_count(); ++t) {
       ExactTriangle e;
-      for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t k = 0; k < 3; ++k) {
         e.v[k] = glm::dvec3(m.positions[m.indices.empty() ? 3 * t + k : m.indices[3 * t + k]]);
+        // Both renderers snap to 1/256 px before anything else: so must coverage here, or a
+        // sample a hair from an edge lands on the other side of it.
+        e.v[k].x = std::floor(e.v[k].x * kSubpixelOne + 0.5) / kSubpixelOne;
+        e.v[k].y = std::floor(e.v[k].y * kSubpixelOne + 0.5) / kSubpixelOne;
+      }
       const glm::dvec3 a = e.v[1] - e.v[0], b = e.v[2] - e.v[0];
       const double area2 = a.x * b.y - b.x * a.y;
       if (area2 == 0) continue;
@@ -90,64 +99,81 @@ std::vector<ExactTriangle> exact_triangles(const mosaic::Scene& scene) {
   return out;
 }
 
-// For the 1x pixels that differ by more than rounding: is their centre covered by two triangles
-// whose exact depths there lie within float evaluation error of each other? Those are depth
-// ties in all but name; any other difference is unexplained. Triangles are visited once, each
-// over the differing pixels of the rows its bounding box spans.
-std::size_t count_unexplained(const mosaic::Scene& scene, const std::vector<std::size_t>& pixels) {
+// For the pixels that differ by more than rounding: does one of their samples lie where two
+// triangles (or a triangle and the clear depth) are within float evaluation error of each other
+// in exact depth? Those are depth ties in all but name, and either renderer may resolve them
+// either way; any other difference is unexplained. Triangles are visited once, each over the
+// differing pixels of the rows its bounding box spans.
+std::size_t count_unexplained(const mosaic::Scene& scene, int samples,
+                              const std::vector<std::size_t>& pixels) {
   if (pixels.empty()) return 0;
+  const auto pattern = mosaic::raster::sample_pattern(samples);
+  const auto n_samples = pattern.size();
   const std::vector<ExactTriangle> tris = exact_triangles(scene);
   struct Nearest {
     double z[2] = {INFINITY, INFINITY};
     double reach[2] = {0, 0};
   };
-  std::vector<Nearest> nearest(pixels.size());
+  // The clear depth is what the first triangle at a sample is compared with.
+  Nearest cleared;
+  cleared.z[0] = scene.clear_depth;
+  std::vector<Nearest> nearest(pixels.size() * n_samples, cleared);
   const auto w = static_cast<std::size_t>(scene.width);
   for (const ExactTriangle& t : tris) {
     const double y0 = std::min({t.v[0].y, t.v[1].y, t.v[2].y});
     const double y1 = std::max({t.v[0].y, t.v[1].y, t.v[2].y});
     const double x0 = std::min({t.v[0].x, t.v[1].x, t.v[2].x});
     const double x1 = std::max({t.v[0].x, t.v[1].x, t.v[2].x});
-    if (y1 < 0 || y0 >= scene.height || x1 < 0 || x0 >= scene.width) continue;
-    const std::size_t first_row = static_cast<std::size_t>(std::max(0.0, std::floor(y0)));
+    if (y1 < -1 || y0 >= scene.height || x1 < -1 || x0 >= scene.width) continue;
+    const auto first_row = static_cast<std::size_t>(std::max(0.0, std::floor(y0) - 1));
     const auto lo = std::lower_bound(pixels.begin(), pixels.end(), first_row * w);
-    for (auto it = lo; it != pixels.end() && static_cast<double>(*it / w) <= y1; ++it) {
-      const double cx = static_cast<double>(*it % w) + 0.5, cy = static_cast<double>(*it / w) + 0.5;
-      if (cx < x0 || cx > x1) continue;
-      double e[3];
-      for (int k = 0; k < 3; ++k) {
-        const glm::dvec3 &p = t.v[k], &q = t.v[(k + 1) % 3];
-        e[k] = (q.x - p.x) * (cy - p.y) - (q.y - p.y) * (cx - p.x);
-      }
-      const bool inside =
-          (e[0] >= 0 && e[1] >= 0 && e[2] >= 0) || (e[0] <= 0 && e[1] <= 0 && e[2] <= 0);
-      if (!inside) continue;
-      const double z = t.v[0].z + t.ddx * (cx - t.v[0].x) + t.ddy * (cy - t.v[0].y);
-      // The largest term either renderer may add: from a vertex, or from the window origin.
-      double reach = std::abs(t.ddx) * cx + std::abs(t.ddy) * cy;
-      for (const glm::dvec3& v : t.v)
-        reach = std::max(reach, std::abs(t.ddx * (cx - v.x)) + std::abs(t.ddy * (cy - v.y)));
-      Nearest& n = nearest[static_cast<std::size_t>(it - pixels.begin())];
-      if (z < n.z[0]) {
-        n.z[1] = n.z[0];
-        n.reach[1] = n.reach[0];
-        n.z[0] = z;
-        n.reach[0] = reach;
-      } else if (z < n.z[1]) {
-        n.z[1] = z;
-        n.reach[1] = reach;
+    for (auto it = lo; it != pixels.end() && static_cast<double>(*it / w) <= y1 + 1; ++it) {
+      for (std::size_t s = 0; s < n_samples; ++s) {
+        const double cx = mosaic::raster::sample_x_px(static_cast<int>(*it % w), pattern[s]);
+        const double cy = mosaic::raster::sample_y_px(static_cast<int>(*it / w), pattern[s]);
+        if (cx < x0 || cx > x1 || cy < y0 || cy > y1) continue;
+        double e[3];
+        for (int k = 0; k < 3; ++k) {
+          const glm::dvec3 &p = t.v[k], &q = t.v[(k + 1) % 3];
+          e[k] = (q.x - p.x) * (cy - p.y) - (q.y - p.y) * (cx - p.x);
+        }
+        const bool inside =
+            (e[0] >= 0 && e[1] >= 0 && e[2] >= 0) || (e[0] <= 0 && e[1] <= 0 && e[2] <= 0);
+        if (!inside) continue;
+        const double z = t.v[0].z + t.ddx * (cx - t.v[0].x) + t.ddy * (cy - t.v[0].y);
+        // The largest term either renderer may add: from a vertex, or from the window origin.
+        double reach = std::abs(t.ddx) * cx + std::abs(t.ddy) * cy;
+        for (const glm::dvec3& v : t.v)
+          reach = std::max(reach, std::abs(t.ddx * (cx - v.x)) + std::abs(t.ddy * (cy - v.y)));
+        Nearest& n = nearest[static_cast<std::size_t>(it - pixels.begin()) * n_samples + s];
+        if (z < n.z[0]) {
+          n.z[1] = n.z[0];
+          n.reach[1] = n.reach[0];
+          n.z[0] = z;
+          n.reach[0] = reach;
+        } else if (z < n.z[1]) {
+          n.z[1] = z;
+          n.reach[1] = reach;
+        }
       }
     }
   }
   std::size_t unexplained = 0;
-  for (const Nearest& n : nearest) {
-    const double tolerance = kTieUlps * kFloatEpsilon * (2.0 + n.reach[0] + n.reach[1]);
-    if (!(n.z[1] - n.z[0] <= tolerance)) ++unexplained;
+  for (std::size_t p = 0; p < pixels.size(); ++p) {
+    bool tie = false;
+    for (std::size_t s = 0; s < n_samples; ++s) {
+      const Nearest& n = nearest[p * n_samples + s];
+      const double tolerance = kTieUlps * kFloatEpsilon * (2.0 + n.reach[0] + n.reach[1]);
+      tie = tie || n.z[1] - n.z[0] <= tolerance;
+    }
+    if (!tie) ++unexplained;
   }
   return unexplained;
 }
 
-ImageDiff compare_images(const std::vector<Rgba8>& a, std::span<const Rgba8> b,
+// `tie_check`: the scene drawn with the depth test, whose near-ties explain differences; without
+// it (depth test off: draw order decides every sample) nothing beyond rounding is explained.
+ImageDiff compare_images(const std::vector<Rgba8>& a, std::span<const Rgba8> b, int samples,
                          const mosaic::Scene* tie_check = nullptr) {
   ImageDiff d;
   std::vector<std::size_t> beyond_rounding;
@@ -160,7 +186,7 @@ ImageDiff compare_images(const std::vector<Rgba8>& a, std::span<const Rgba8> b,
     d.max_channel = std::max(d.max_channel, m);
   }
   d.unexplained =
-      tie_check ? count_unexplained(*tie_check, beyond_rounding) : beyond_rounding.size();
+      tie_check ? count_unexplained(*tie_check, samples, beyond_rounding) : beyond_rounding.size();
   return d;
 }
 
@@ -323,17 +349,15 @@ int main(int argc, char** argv) {
             mosaic_ms.push_back(mosaic_frame());
           }
           const std::vector<Rgba8> gl_image = gl.read_image();
-          // 1x: every pixel more than rounding apart must sit on a depth near-tie.
-          const ImageDiff d =
-              compare_images(gl_image, target.color(), samples == 1 ? &scene : nullptr);
-          if (samples == 1 && d.unexplained != 0) status = 1;
-          const std::string unexplained = samples == 1 ? std::to_string(d.unexplained) : "-";
+          // Every pixel more than rounding apart must hold a sample on a depth near-tie.
+          const ImageDiff d = compare_images(gl_image, target.color(), samples, &scene);
+          if (d.unexplained != 0) status = 1;
           const double gl_median = mosaic::peers::median(gl_ms);
           const double mosaic_median = mosaic::peers::median(mosaic_ms);
           char row[256];
-          std::snprintf(row, sizeof row, "| %s | %d | %d | %.2f | %.2f | %.2f | %zu | %d | %s |\n",
+          std::snprintf(row, sizeof row, "| %s | %d | %d | %.2f | %.2f | %.2f | %zu | %d | %zu |\n",
                         entry.name.c_str(), samples, threads, gl_median, mosaic_median,
-                        gl_median / mosaic_median, d.pixels, d.max_channel, unexplained.c_str());
+                        gl_median / mosaic_median, d.pixels, d.max_channel, d.unexplained);
           table += row;
           std::printf("%s", row);
           std::fflush(stdout);
@@ -352,7 +376,7 @@ int main(int argc, char** argv) {
                                      {"mosaic_frames_ms", mosaic_ms},
                                      {"differing_pixels", d.pixels},
                                      {"max_channel_difference", d.max_channel}});
-          if (samples == 1) json["results"].back()["unexplained_pixels"] = d.unexplained;
+          json["results"].back()["unexplained_pixels"] = d.unexplained;
           if (ti == 0 && !images_dir.empty())
             write_pair(images_dir, entry.name + "-" + std::to_string(samples) + "x", gl_image,
                        target);
@@ -368,7 +392,7 @@ int main(int argc, char** argv) {
           mosaic::RenderTarget target = make_target(counted, samples);
           const mosaic::FrameStats stats =
               renderer.render(mosaic::Frame{.draws = counted_draws}, target);
-          const ImageDiff d = compare_images(gl.read_image(), target.color());
+          const ImageDiff d = compare_images(gl.read_image(), target.color(), samples);
           const bool equal = passed == stats.samples_written;
           // No depth test: draw order decides every sample, so no difference beyond colour
           // rounding is explained.
