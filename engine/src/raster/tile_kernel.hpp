@@ -78,16 +78,6 @@ struct TileKernelImpl {
     return r | (g << 8) | (b << 16) | (a << 24);
   }
 
-  static std::uint32_t depth_pass(DepthTest test, F z, F stored) {
-    switch (test) {
-      case DepthTest::kLess: return M::bits(z < stored);
-      case DepthTest::kLessEqual: return M::bits(z <= stored);
-      case DepthTest::kGreater: return M::bits(z > stored);
-      case DepthTest::kGreaterEqual: return M::bits(z >= stored);
-      case DepthTest::kAlways: return kLaneBits;
-    }
-    return kLaneBits;
-  }
 
   struct Context {
     const TileFrame& f;
@@ -96,13 +86,70 @@ struct TileKernelImpl {
     TileStats& st;
     std::span<const SampleOffset> pattern;
     std::uint64_t valid[kBlocksPerTile];  ///< pixels of each block inside the image
-    I col[kVectors], row[kVectors];
+    I col[kVectors], row[kVectors];       ///< each lane's pixel column and row in its block
+    F colf[kVectors], rowf[kVectors];     ///< the same as floats
+    F ox[kMaxSamples], oy[kMaxSamples];   ///< sample offset from the pixel corner, in pixels
+    std::int64_t soff[2][kMaxSamples];    ///< sample offset from the pixel corner, in 16.8
   };
 
+  // Chooses the specialisation of triangle_impl() for the draw's state, so that the inner loops
+  // carry no branch on state they do not use.
   static void triangle(Context& cx, const front::TriangleSetup& t) {
+    const DrawState& ds = cx.f.states[t.draw];
+    if (cx.f.ssaa) return triangle_state<true>(cx, t, ds);
+    return triangle_state<false>(cx, t, ds);
+  }
+  template <bool kSsaa>
+  static void triangle_state(Context& cx, const front::TriangleSetup& t, const DrawState& ds) {
+    if (t.flat) return triangle_depth<kSsaa, true>(cx, t, ds);
+    return triangle_depth<kSsaa, false>(cx, t, ds);
+  }
+  template <bool kSsaa, bool kFlat>
+  static void triangle_depth(Context& cx, const front::TriangleSetup& t, const DrawState& ds) {
+    const bool w = ds.depth_write;
+    switch (ds.depth_test) {
+      case DepthTest::kLess:
+        return w ? triangle_impl<DepthTest::kLess, true, kFlat, kSsaa>(cx, t)
+                 : triangle_impl<DepthTest::kLess, false, kFlat, kSsaa>(cx, t);
+      case DepthTest::kLessEqual:
+        return w ? triangle_impl<DepthTest::kLessEqual, true, kFlat, kSsaa>(cx, t)
+                 : triangle_impl<DepthTest::kLessEqual, false, kFlat, kSsaa>(cx, t);
+      case DepthTest::kGreater:
+        return w ? triangle_impl<DepthTest::kGreater, true, kFlat, kSsaa>(cx, t)
+                 : triangle_impl<DepthTest::kGreater, false, kFlat, kSsaa>(cx, t);
+      case DepthTest::kGreaterEqual:
+        return w ? triangle_impl<DepthTest::kGreaterEqual, true, kFlat, kSsaa>(cx, t)
+                 : triangle_impl<DepthTest::kGreaterEqual, false, kFlat, kSsaa>(cx, t);
+      case DepthTest::kAlways:
+        return w ? triangle_impl<DepthTest::kAlways, true, kFlat, kSsaa>(cx, t)
+                 : triangle_impl<DepthTest::kAlways, false, kFlat, kSsaa>(cx, t);
+    }
+  }
+
+  template <DepthTest kTest>
+  static std::uint32_t passes(F z, F stored) {
+    if constexpr (kTest == DepthTest::kLess) return M::bits(z < stored);
+    if constexpr (kTest == DepthTest::kLessEqual) return M::bits(z <= stored);
+    if constexpr (kTest == DepthTest::kGreater) return M::bits(z > stored);
+    if constexpr (kTest == DepthTest::kGreaterEqual) return M::bits(z >= stored);
+    return kLaneBits;
+  }
+
+  // Hierarchical z for one block: -1 rejects the block (no sample can pass), 0 needs the
+  // per-sample test, 1 accepts every covered sample without it.
+  template <DepthTest kTest>
+  static int hiz(float tlo, float thi, float bz_min, float bz_max) {
+    if constexpr (kTest == DepthTest::kLess) return tlo >= bz_max ? -1 : (thi < bz_min ? 1 : 0);
+    if constexpr (kTest == DepthTest::kLessEqual) return tlo > bz_max ? -1 : (thi <= bz_min ? 1 : 0);
+    if constexpr (kTest == DepthTest::kGreater) return thi <= bz_min ? -1 : (tlo > bz_max ? 1 : 0);
+    if constexpr (kTest == DepthTest::kGreaterEqual) return thi < bz_min ? -1 : (tlo >= bz_max ? 1 : 0);
+    return 1;
+  }
+
+  template <DepthTest kTest, bool kWrite, bool kFlat, bool kSsaa>
+  static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
-    const DrawState& ds = f.states[t.draw];
     const int S = f.samples;
 
     const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
@@ -115,29 +162,61 @@ struct TileKernelImpl {
     // where the final value is known to fit int32 (fits32 below) the wrapped sum is exact.
     std::int64_t a[3], b[3];
     I eoff[3][kVectors];
-    std::int64_t soff[3][kMaxSamples];
     for (int e = 0; e < 3; ++e) {
       a[e] = t.edge[e].a;
       b[e] = t.edge[e].b;
       const I as(static_cast<std::int32_t>(a[e] * kSubpixel));
       const I bs(static_cast<std::int32_t>(b[e] * kSubpixel));
       for (int v = 0; v < kVectors; ++v) eoff[e][v] = as * cx.col[v] + bs * cx.row[v];
-      for (int s = 0; s < S; ++s) {
-        const SampleOffset o = cx.pattern[s];
-        soff[e][s] = a[e] * (kHalf + o.dx * kSampleOffsetScale) + b[e] * (kHalf + o.dy * kSampleOffsetScale);
-      }
     }
     const float tlo = t.z_min, thi = t.z_max;
-    const bool write_depth = ds.depth_write;
+    const F x0(t.x0), y0(t.y0), zb(t.z.base), zdx(t.z.ddx), zdy(t.z.ddy), zlo(tlo), zhi(thi);
+    const I flat_color(bits_of(t.color));
 
     for (int by = byb; by < bye; ++by) {
-      for (int bx = bxb; bx < bxe; ++bx) {
+      const int py0 = tile.y0 + by * kBlockSize;
+      // The blocks of this row that no edge rejects: each edge's largest value over a block is
+      // linear in the block's x, so each edge bounds bx from one side.
+      int row_b = bxb, row_e = bxe;
+      const std::int64_t x_base = std::int64_t{tile.x0} * kSubpixel;
+      for (int e = 0; e < 3 && row_b < row_e; ++e) {
+        // max over the block at column bx = a * X(bx) + k, X(bx) = (tile.x0 + 8 bx) * 256.
+        const std::int64_t k = b[e] * (std::int64_t{py0} * kSubpixel) + t.edge[e].c +
+                               std::max<std::int64_t>(0, a[e] * kBlockSpan) +
+                               std::max<std::int64_t>(0, b[e] * kBlockSpan);
+        if (a[e] == 0) {
+          if (k < 0) row_e = row_b;
+        } else if (a[e] > 0) {
+          // a * (x_base + bx * span) + k >= 0  <=>  bx >= ceil((-k - a * x_base) / (a * span))
+          const std::int64_t num = -k - a[e] * x_base, den = a[e] * kBlockSpan;
+          row_b = static_cast<int>(std::max<std::int64_t>(row_b, ceil_div(num, den)));
+        } else {
+          // bx <= floor((k + a * x_base) / (-a * span))
+          const std::int64_t num = k + a[e] * x_base, den = -a[e] * kBlockSpan;
+          row_e = static_cast<int>(std::min<std::int64_t>(row_e, floor_div(num, den) + 1));
+        }
+      }
+      // Pixel rows of this block row that the bounding box touches, and the vectors holding them.
+      const int r0 = std::max(0, y_lo - py0), r1 = std::min(kBlockSize, y_hi - py0);
+      const int v_begin = (r0 * kBlockSize) / L;
+      const int v_end = (r1 * kBlockSize + L - 1) / L;
+      const F fy_row = F(static_cast<float>(py0));
+
+      for (int bx = row_b; bx < row_e; ++bx) {
         const int blk = by * kBlocksPerTileSide + bx;
         const std::uint64_t valid = cx.valid[blk];
         if (!valid) continue;
-        const int px0 = tile.x0 + bx * kBlockSize, py0 = tile.y0 + by * kBlockSize;
+        const int px0 = tile.x0 + bx * kBlockSize;
 
-        // 1. Edge functions at the block's corner, and their extremes over the block.
+        // 1. Hierarchical z.
+        const int hz = hiz<kTest>(tlo, thi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
+        if (hz < 0) {
+          ++cx.st.blocks_hiz_rejected;
+          continue;
+        }
+        const bool test = hz == 0;
+
+        // 2. Edge functions at the block's corner, and their extremes over the block.
         std::int64_t eorg[3];
         bool all_in = true, fits32 = true, outside = false;
         for (int e = 0; e < 3; ++e) {
@@ -151,93 +230,61 @@ struct TileKernelImpl {
                     hi <= std::numeric_limits<std::int32_t>::max();
         }
         if (outside) continue;
+        if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
 
-        // 2. Hierarchical z.
-        bool test = ds.depth_test != DepthTest::kAlways;
-        const float bz_min = cx.sc.zmin[blk], bz_max = cx.sc.zmax[blk];
-        switch (ds.depth_test) {
-          case DepthTest::kLess:
-            if (tlo >= bz_max) { ++cx.st.blocks_hiz_rejected; continue; }
-            test = !(thi < bz_min);
-            break;
-          case DepthTest::kLessEqual:
-            if (tlo > bz_max) { ++cx.st.blocks_hiz_rejected; continue; }
-            test = !(thi <= bz_min);
-            break;
-          case DepthTest::kGreater:
-            if (thi <= bz_min) { ++cx.st.blocks_hiz_rejected; continue; }
-            test = !(tlo > bz_max);
-            break;
-          case DepthTest::kGreaterEqual:
-            if (thi < bz_min) { ++cx.st.blocks_hiz_rejected; continue; }
-            test = !(tlo >= bz_max);
-            break;
-          case DepthTest::kAlways: break;
-        }
-        if (!test && ds.depth_test != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
-
-        // 3. Coverage, one 64-bit word per sample.
-        std::uint64_t cov[kMaxSamples];
-        std::uint64_t any = 0;
-        if (all_in) {
-          for (int s = 0; s < S; ++s) cov[s] = valid;
-          any = valid;
-        } else if (fits32) {
-          for (int s = 0; s < S; ++s) {
-            const I b0(static_cast<std::int32_t>(eorg[0] + soff[0][s]));
-            const I b1(static_cast<std::int32_t>(eorg[1] + soff[1][s]));
-            const I b2(static_cast<std::int32_t>(eorg[2] + soff[2][s]));
-            std::uint64_t m = 0;
-            for (int v = 0; v < kVectors; ++v) {
-              const I e = (b0 + eoff[0][v]) | (b1 + eoff[1][v]) | (b2 + eoff[2][v]);
-              m |= std::uint64_t{M::bits(e >= I(0))} << (v * L);
-            }
-            cov[s] = m & valid;
-            any |= cov[s];
-          }
-        } else {
-          for (int s = 0; s < S; ++s) {
-            const SampleOffset o = cx.pattern[s];
-            std::uint64_t m = 0;
-            for (int p = 0; p < kBlockPixels; ++p) {
-              const std::int64_t sx = sample_x_fixed(px0 + p % kBlockSize, o);
-              const std::int64_t sy = sample_y_fixed(py0 + p / kBlockSize, o);
-              if (t.edge[0](sx, sy) >= 0 && t.edge[1](sx, sy) >= 0 && t.edge[2](sx, sy) >= 0)
-                m |= std::uint64_t{1} << p;
-            }
-            cov[s] = m & valid;
-            any |= cov[s];
-          }
-        }
-        if (!any) continue;
-
-        // 4–5. Depth test and writes, per sample and vector of pixels.
+        // 3–5. Coverage, depth test and writes, one sample and one vector of pixels at a time.
         float* dblk = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
         std::uint32_t* cblk = cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+        const F fx_blk = F(static_cast<float>(px0));
         I pixel_color[kVectors];
         std::uint32_t shaded = 0;
         std::uint64_t tested = 0, written = 0;
         for (int s = 0; s < S; ++s) {
-          const std::uint64_t m = cov[s];
+          std::uint64_t m;
+          if (all_in) {
+            m = valid;
+          } else if (fits32) {
+            const I b0(static_cast<std::int32_t>(eorg[0] + cx.soff[0][s] * a[0] + cx.soff[1][s] * b[0]));
+            const I b1(static_cast<std::int32_t>(eorg[1] + cx.soff[0][s] * a[1] + cx.soff[1][s] * b[1]));
+            const I b2(static_cast<std::int32_t>(eorg[2] + cx.soff[0][s] * a[2] + cx.soff[1][s] * b[2]));
+            m = 0;
+            for (int v = v_begin; v < v_end; ++v) {
+              const I e = (b0 + eoff[0][v]) | (b1 + eoff[1][v]) | (b2 + eoff[2][v]);
+              m |= std::uint64_t{M::bits(e >= I(0))} << (v * L);
+            }
+            m &= valid;
+          } else {
+            m = coverage_int64(t, cx.pattern[s], px0, py0) & valid;
+          }
           if (!m) continue;
-          const SampleOffset o = cx.pattern[s];
-          const F ox(0.5f + static_cast<float>(o.dx) * (1.0f / 16.0f));
-          const F oy(0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f));
-          for (int v = 0; v < kVectors; ++v) {
+          for (int v = v_begin; v < v_end; ++v) {
             const std::uint32_t lanes = static_cast<std::uint32_t>(m >> (v * L)) & kLaneBits;
             if (!lanes) continue;
-            const F cxp = xsimd::to_float(I(px0) + cx.col[v]);
-            const F cyp = xsimd::to_float(I(py0) + cx.row[v]);
-            const F fx = cxp + ox, fy = cyp + oy;
-            const F z = clamp(plane(t.z, t.x0, t.y0, fx, fy), t.z_min, t.z_max);
+            // Sample positions in pixels (exact in float), then the depth plane of the
+            // reference: (base + ddx * (x - x0)) + ddy * (y - y0), clamped.
+            const F cxp = fx_blk + cx.colf[v], cyp = fy_row + cx.rowf[v];
+            const F fx = cxp + cx.ox[s], fy = cyp + cx.oy[s];
+            const F zr = (zb + zdx * (fx - x0)) + zdy * (fy - y0);
+            const F zc = xsimd::select(zr > zlo, zr, zlo);
+            const F z = xsimd::select(zc < zhi, zc, zhi);
             float* dp = dblk + s * kBlockPixels + v * L;
-            const F stored = F::load_aligned(dp);
-            const std::uint32_t pass = test ? (lanes & depth_pass(ds.depth_test, z, stored)) : lanes;
+            std::uint32_t pass = lanes;
+            if constexpr (kTest != DepthTest::kAlways || kWrite) {
+              const F stored = F::load_aligned(dp);
+              if constexpr (kTest != DepthTest::kAlways) {
+                if (test) pass &= passes<kTest>(z, stored);
+              }
+              if (!pass) {
+                tested += static_cast<std::uint64_t>(std::popcount(lanes));
+                continue;
+              }
+              if constexpr (kWrite) xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
+            }
             tested += static_cast<std::uint64_t>(std::popcount(lanes));
-            if (!pass) continue;
-            if (write_depth) xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
             I color;
-            if (f.ssaa) {
+            if constexpr (kFlat) {
+              color = flat_color;
+            } else if constexpr (kSsaa) {
               color = shade(t, fx, fy);
             } else {
               if (!(shaded & (1u << v))) {
@@ -256,7 +303,7 @@ struct TileKernelImpl {
 
         // Keep the block's depth bounds conservative (and exact when the triangle overwrote
         // every sample of the block).
-        if (write_depth && written) {
+        if (kWrite && written) {
           const bool full = written == static_cast<std::uint64_t>(std::popcount(valid)) * S;
           float& zmn = cx.sc.zmin[blk];
           float& zmx = cx.sc.zmax[blk];
@@ -264,14 +311,27 @@ struct TileKernelImpl {
             zmn = tlo;
             zmx = thi;
           } else {
-            if (ds.depth_test != DepthTest::kGreater && ds.depth_test != DepthTest::kGreaterEqual)
+            if constexpr (kTest != DepthTest::kGreater && kTest != DepthTest::kGreaterEqual)
               zmn = std::min(zmn, tlo);
-            if (ds.depth_test != DepthTest::kLess && ds.depth_test != DepthTest::kLessEqual)
+            if constexpr (kTest != DepthTest::kLess && kTest != DepthTest::kLessEqual)
               zmx = std::max(zmx, thi);
           }
         }
       }
     }
+  }
+
+  // Coverage of one sample of a block with exact int64 edge functions, for the rare blocks whose
+  // edge values could leave int32 (edges longer than about 2048 px).
+  static std::uint64_t coverage_int64(const front::TriangleSetup& t, SampleOffset o, int px0, int py0) {
+    std::uint64_t m = 0;
+    for (int p = 0; p < kBlockPixels; ++p) {
+      const std::int64_t sx = sample_x_fixed(px0 + p % kBlockSize, o);
+      const std::int64_t sy = sample_y_fixed(py0 + p / kBlockSize, o);
+      if (t.edge[0](sx, sy) >= 0 && t.edge[1](sx, sy) >= 0 && t.edge[2](sx, sy) >= 0)
+        m |= std::uint64_t{1} << p;
+    }
+    return m;
   }
 
   static void resolve_tile(Context& cx) {
@@ -316,7 +376,9 @@ struct TileKernelImpl {
       }
     }
     for (int y = 0; y < tile.height; ++y) {
-      std::memcpy(f.image + static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0,
+      // Rgba8 is four bytes in r, g, b, a order, the little-endian layout of the packed words.
+      std::memcpy(static_cast<void*>(f.image + static_cast<std::size_t>(tile.y0 + y) * f.width +
+                                     tile.x0),
                   cx.sc.resolved + y * kTileSize, sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
     }
     if (f.sample_color || f.sample_depth) {
@@ -328,7 +390,7 @@ struct TileKernelImpl {
               (static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0 + x) * S;
           for (int s = 0; s < S; ++s) {
             const std::size_t in = (static_cast<std::size_t>(blk) * S + s) * kBlockPixels + p;
-            if (f.sample_color) std::memcpy(&f.sample_color[out + s], &cx.sc.color[in], sizeof(Rgba8));
+            if (f.sample_color) f.sample_color[out + s] = std::bit_cast<Rgba8>(cx.sc.color[in]);
             if (f.sample_depth) f.sample_depth[out + s] = cx.sc.depth[in];
           }
         }
@@ -338,10 +400,20 @@ struct TileKernelImpl {
 
   static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,
                   TileScratch& sc, TileStats& st) {
-    Context cx{f, tile, sc, st, sample_pattern(f.samples), {}, {}, {}};
+    Context cx{f, tile, sc, st, sample_pattern(f.samples), {}, {}, {}, {}, {}, {}, {}, {}};
     for (int v = 0; v < kVectors; ++v) {
       cx.col[v] = lane_col(v);
       cx.row[v] = lane_row(v);
+      cx.colf[v] = xsimd::to_float(cx.col[v]);
+      cx.rowf[v] = xsimd::to_float(cx.row[v]);
+    }
+    for (int s = 0; s < f.samples; ++s) {
+      const SampleOffset o = cx.pattern[s];
+      // The reference's sample position is px + 0.5 + dx / 16; every term and sum is exact.
+      cx.ox[s] = F(0.5f + static_cast<float>(o.dx) * (1.0f / 16.0f));
+      cx.oy[s] = F(0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f));
+      cx.soff[0][s] = kHalf + o.dx * kSampleOffsetScale;
+      cx.soff[1][s] = kHalf + o.dy * kSampleOffsetScale;
     }
     // Clear the tile's samples and its hierarchical z.
     const std::size_t n = static_cast<std::size_t>(kBlocksPerTile) * f.samples * kBlockPixels;
@@ -366,6 +438,13 @@ struct TileKernelImpl {
     resolve_tile(cx);
     st.resolve_ns += static_cast<std::uint64_t>(
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - r0).count());
+  }
+
+  static constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {  // d > 0
+    return n >= 0 ? n / d : -((-n + d - 1) / d);
+  }
+  static constexpr std::int64_t ceil_div(std::int64_t n, std::int64_t d) {  // d > 0
+    return n >= 0 ? (n + d - 1) / d : -((-n) / d);
   }
 
   static constexpr std::int64_t kSubpixel = 256;         ///< one pixel in 16.8 units
