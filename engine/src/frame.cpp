@@ -14,6 +14,8 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
 #include <tbb/task_arena.h>
 
 #include "front/front_end.hpp"
@@ -92,6 +94,7 @@ struct Renderer::Impl {
   Isa isa = Isa::kReference;
   int threads = 1;
   raster::TileKernel kernel = nullptr;
+  std::unique_ptr<tbb::global_control> parallelism;  // declared before the arena: outlives it
   std::unique_ptr<tbb::task_arena> arena;
   // Per-frame memory, kept between frames so that steady-state frames do not allocate.
   std::vector<bin::Chunk> chunks;
@@ -105,8 +108,10 @@ struct Renderer::Impl {
 };
 
 Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
-  if (options.threads < 0)
-    throw Error(Errc::kInvalidArgument, "thread count must be >= 0");
+  if (options.threads < 0 || options.threads > kMaxThreads)
+    throw Error(Errc::kInvalidArgument,
+                "thread count " + std::to_string(options.threads) + " is outside 0.." +
+                    std::to_string(kMaxThreads));
   impl_->options = options;
   const std::vector<Isa> isas = available_isas();
   if (options.isa == Isa::kAuto) {
@@ -123,6 +128,12 @@ Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (impl_->isa != Isa::kReference) {
     impl_->kernel = simd::tile_kernel(impl_->isa);
+    // oneTBB caps its workers at the core count; asking an arena for more prints a warning and
+    // runs on fewer. Oversubscribing is a legitimate request (determinism tests use 7 threads on
+    // 2 cores), so raise the cap for as long as this renderer lives.
+    if (impl_->threads > tbb::info::default_concurrency())
+      impl_->parallelism = std::make_unique<tbb::global_control>(
+          tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(impl_->threads));
     impl_->arena = std::make_unique<tbb::task_arena>(impl_->threads);
   }
 }

@@ -49,12 +49,18 @@ struct FrameStats {
 
 /// Renderer configuration.
 struct RendererOptions {
-  int threads = 0;        ///< worker threads; 0 means every hardware thread
+  /// Worker threads, 0 to kMaxThreads; 0 means every hardware thread. More threads than cores is
+  /// allowed (the image never depends on the count); while such a Renderer lives it raises oneTBB's
+  /// process-wide worker limit to its count, and two such Renderers share the smaller of the two.
+  int threads = 0;
   Isa isa = Isa::kAuto;   ///< kAuto picks the best SIMD path the CPU runs
 };
 
 /// The instruction sets this build and this CPU can run, best last (kReference always first).
 std::vector<Isa> available_isas();
+
+/// Upper bound of RendererOptions::threads: far past any machine, low enough to catch garbage.
+inline constexpr int kMaxThreads = 1024;
 
 /// Renders frames. Holds worker threads and per-frame memory, so keep one alive across frames.
 /// A Renderer is not thread-safe: one render() at a time.
