@@ -228,4 +228,43 @@ TEST(FastPath, LargeTargetWithManyChunksMatchesReference) {
   for (Isa isa : simd_isas()) expect_same(ref, render(sc, w, h, 1, isa, 2, {}), "1917x1083");
 }
 
+TEST(FastPath, RecordedCostsCoverEveryTileAndChunkAndLeaveTheImageAlone) {
+  using namespace mosaic;
+  // 5000 triangles: three front-end chunks of 2048; 1917x1083 does not divide into tiles.
+  const Scene scene = builtin_scene("random-small", 1917, 1083, 3);
+  const std::vector<Draw> draws = scene.draws();
+  const Frame frame{draws};
+  RenderTarget plain(1917, 1083, 4), costed(1917, 1083, 4);
+  Renderer r0(RendererOptions{2, Isa::kAuto, false});
+  Renderer r1(RendererOptions{2, Isa::kAuto, true});
+  const FrameStats s0 = r0.render(frame, plain);
+  const FrameStats s1 = r1.render(frame, costed);
+  EXPECT_EQ(plain.image_hash(), costed.image_hash());
+  EXPECT_TRUE(s0.tile_costs.empty());
+  EXPECT_TRUE(s0.chunk_costs.empty());
+
+  const int tiles_x = (1917 + s1.tile_size - 1) / s1.tile_size;
+  const int tiles_y = (1083 + s1.tile_size - 1) / s1.tile_size;
+  ASSERT_EQ(s1.tile_costs.size(), static_cast<std::size_t>(tiles_x * tiles_y));
+  std::uint64_t binned = 0, pixels = 0;
+  for (std::size_t t = 0; t < s1.tile_costs.size(); ++t) {
+    const TileCost& c = s1.tile_costs[t];
+    EXPECT_EQ(c.x0, static_cast<int>(t % tiles_x) * s1.tile_size);
+    EXPECT_EQ(c.y0, static_cast<int>(t / tiles_x) * s1.tile_size);
+    EXPECT_GT(c.ms, 0.0);
+    binned += c.triangles;
+    pixels += static_cast<std::uint64_t>(c.width) * c.height;
+  }
+  EXPECT_EQ(binned, s1.triangles_binned);
+  EXPECT_EQ(pixels, 1917u * 1083u);
+  std::uint64_t submitted = 0;
+  for (const ChunkCost& c : s1.chunk_costs) {
+    submitted += c.triangles;
+    EXPECT_GT(c.ms_setup, 0.0);
+    EXPECT_GT(c.ms_binning, 0.0);
+  }
+  EXPECT_EQ(s1.chunk_costs.size(), (scene.triangle_count() + 2047) / 2048);
+  EXPECT_EQ(submitted, s1.triangles_in);
+}
+
 }  // namespace

@@ -157,6 +157,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   FrameStats stats;
   stats.isa = isa;
   stats.threads = threads;
+  stats.tile_size = raster::kTileSize;
   const int W = target.width(), H = target.height(), S = target.samples();
   const bin::TileGrid grid(W, H);
 
@@ -186,6 +187,8 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   if (chunks.size() < jobs.size()) chunks.resize(jobs.size());
   const std::size_t nchunks = jobs.size();
   tbb::combinable<front::FrontStats> front_stats;
+  const bool record = options.record_costs;
+  if (record) stats.chunk_costs.assign(nchunks, {});
 
   arena->execute([&] {
     if (frame.painter) {
@@ -193,9 +196,11 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     } else {
       tbb::parallel_for(std::size_t{0}, nchunks, [&](std::size_t i) {
         const ChunkJob& j = jobs[i];
+        const auto c0 = record ? Clock::now() : Clock::time_point{};
         chunks[i].tris.clear();
         front::run_front_end(frame.draws[j.draw], j.draw, j.begin, j.end, W, H, chunks[i].tris,
                              front_stats.local());
+        if (record) stats.chunk_costs[i] = {j.end - j.begin, ms_between(c0, Clock::now()), 0};
       });
     }
   });
@@ -206,7 +211,9 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   tbb::combinable<std::uint64_t> binned;
   arena->execute([&] {
     tbb::parallel_for(std::size_t{0}, nchunks, [&](std::size_t i) {
+      const auto c0 = record ? Clock::now() : Clock::time_point{};
       binned.local() += bin::bin_chunk(chunks[i], grid);
+      if (record) stats.chunk_costs[i].ms_binning = ms_between(c0, Clock::now());
     });
   });
   stats.triangles_binned = binned.combine(std::plus<>());
@@ -242,6 +249,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     tf.sample_color = target.sample_color_storage().data();
   }
   tbb::combinable<raster::TileStats> tile_stats;
+  if (record) stats.tile_costs.assign(static_cast<std::size_t>(grid.count()), {});
   arena->execute([&] {
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, tile_order.size(), 1),
@@ -256,7 +264,13 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
               const auto span = chunks[c].bin(t);
               if (!span.empty()) bin.push_back({chunks[c].tris.data(), span});
             }
-            kernel(tf, grid.rect(t), bin, sc, ts);
+            const auto c0 = record ? Clock::now() : Clock::time_point{};
+            const raster::TileRect rect = grid.rect(t);
+            kernel(tf, rect, bin, sc, ts);
+            if (record)
+              stats.tile_costs[t] = {rect.x0, rect.y0, rect.width, rect.height,
+                                     static_cast<std::uint32_t>(tile_order[k].first),
+                                     ms_between(c0, Clock::now())};
           }
         },
         tbb::simple_partitioner());

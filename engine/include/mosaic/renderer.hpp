@@ -28,6 +28,20 @@ struct Frame {
   bool painter = false;
 };
 
+/// One screen tile's share of a frame (FrameStats::tile_costs).
+struct TileCost {
+  int x0 = 0, y0 = 0, width = 0, height = 0;  ///< the tile's pixels
+  std::uint32_t triangles = 0;                ///< triangles binned to it
+  double ms = 0;                              ///< its worker's time: clear, rasterize, resolve
+};
+
+/// One front-end chunk's share of a frame (FrameStats::chunk_costs).
+struct ChunkCost {
+  std::uint32_t triangles = 0;  ///< triangles submitted in the chunk
+  double ms_setup = 0;          ///< transform, clip, cull, snap and set up
+  double ms_binning = 0;        ///< binning the chunk's triangles into its tile table
+};
+
 /// Per-frame counters and timings. Counters are exact and do not depend on the thread count.
 struct FrameStats {
   std::uint64_t triangles_in = 0;           ///< triangles submitted
@@ -42,7 +56,14 @@ struct FrameStats {
   std::uint64_t blocks_hiz_accepted = 0;    ///< blocks where hierarchical z skipped the depth test
   std::uint64_t samples_tested = 0;         ///< covered samples that reached the depth test
   std::uint64_t samples_written = 0;        ///< colour writes to samples, over all triangles
+  /// Wall-clock milliseconds of each stage and of the whole frame. ms_resolve alone is summed
+  /// over the workers (the resolve runs inside each tile's task), so it is thread time.
   double ms_setup = 0, ms_binning = 0, ms_raster = 0, ms_resolve = 0, ms_total = 0;
+  int tile_size = 0;  ///< tile edge in pixels of the fast path (0 for the reference)
+  /// Per-tile and per-chunk costs, in tile and chunk order; filled only when
+  /// RendererOptions::record_costs is set (the scaling model of `mosaic-scaling` reads them).
+  std::vector<TileCost> tile_costs;
+  std::vector<ChunkCost> chunk_costs;
   Isa isa = Isa::kReference;  ///< the path that rendered the frame
   int threads = 1;            ///< worker threads used
 };
@@ -54,6 +75,9 @@ struct RendererOptions {
   /// process-wide worker limit to its count, and two such Renderers share the smaller of the two.
   int threads = 0;
   Isa isa = Isa::kAuto;   ///< kAuto picks the best SIMD path the CPU runs
+  /// Time every tile and front-end chunk into FrameStats::tile_costs / chunk_costs. Costs two
+  /// clock reads per tile and chunk; off by default.
+  bool record_costs = false;
 };
 
 /// The instruction sets this build and this CPU can run, best last (kReference always first).

@@ -18,8 +18,12 @@
 namespace mosaic::raster {
 
 /// Tile edge in pixels. 64×64 px × 4 samples × (4 B colour + 4 B depth) = 128 KiB, which stays
-/// in L2 while the tile is worked (DESIGN.md); measured against 32 and 128 in bench/.
-inline constexpr int kTileSize = 64;
+/// in L2 while the tile is worked (DESIGN.md). The build option MOSAIC_TILE_SIZE (a multiple of
+/// kBlockSize) changes it, so that other sizes can be measured (bench/scaling).
+#ifndef MOSAIC_TILE_SIZE
+#define MOSAIC_TILE_SIZE 64
+#endif
+inline constexpr int kTileSize = MOSAIC_TILE_SIZE;
 /// Block edge in pixels: 8×8 = 64 pixels, so one sample of a block is one 64-bit coverage word.
 inline constexpr int kBlockSize = 8;
 inline constexpr int kBlockPixels = kBlockSize * kBlockSize;
