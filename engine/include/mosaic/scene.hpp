@@ -1,15 +1,16 @@
 // mosaic/scene.hpp — owned scene data: built-in scenes, .tris and OBJ files, image output.
 //
-// A Scene owns its buffers; Scene::frame_draws() views them as Draws for Renderer::render().
+// Takes: a scene name, a .tris or OBJ file, or a rendered RenderTarget. Gives: a Scene that owns
+// its buffers (Scene::draws() views them as Draws for Renderer::render()), .tris files and
+// PNG/PPM images.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
-#include <string>
-#include <vector>
-
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
+#include <string>
+#include <vector>
 
 #include "mosaic/draw.hpp"
 #include "mosaic/render_target.hpp"
@@ -17,31 +18,44 @@
 
 namespace mosaic {
 
-/// One owned draw: the buffers a Draw points at, plus its state.
+/// One owned draw: the buffers a Draw points at, plus its state. The fields mean what the
+/// Draw fields of the same names mean.
 struct Mesh {
-  Space space = Space::kClip;
-  std::vector<glm::vec4> positions;
-  std::vector<std::uint32_t> indices;  ///< empty: sequential triangles
-  ColorSource color_source = ColorSource::kConstant;
-  Rgba8 color{255, 255, 255, 255};
-  std::vector<Rgba8> colors;
-  DrawState state;
+  Space space = Space::kClip;          ///< coordinate space of `positions`
+  std::vector<glm::vec4> positions;    ///< xyzw, in `space`
+  std::vector<std::uint32_t> indices;  ///< three per triangle; empty: vertices 0,1,2, 3,4,5, …
+  ColorSource color_source = ColorSource::kConstant;  ///< where the colour comes from
+  Rgba8 color{255, 255, 255, 255};                    ///< for ColorSource::kConstant
+  std::vector<Rgba8> colors;  ///< one per triangle (kPerTriangle) or per vertex (kPerVertex)
+  DrawState state;            ///< depth test and write, culling, fill rule
 
   /// A Draw viewing this mesh's buffers (valid while the mesh lives and is not modified).
   Draw draw() const;
+  /// Triangles the mesh submits: indices / 3, or positions / 3 without indices.
   std::size_t triangle_count() const;
+};
+
+/// The camera a scene's clip-space meshes were projected with.
+struct Camera {
+  /// World (or OBJ model) space to clip space, depth z/w in [0, 1]. Identity for scenes that
+  /// have no camera (screen-space scenes: .tris files and the 2-D built-in scenes).
+  glm::mat4 view_projection{1.0f};
 };
 
 /// A scene: a suggested target size and clear values, and meshes drawn in order.
 struct Scene {
-  std::string name;
-  int width = 1920, height = 1080;
-  Rgba8 clear_color{0, 0, 0, 255};
-  float clear_depth = 1.0f;
-  std::vector<Mesh> meshes;
+  std::string name;                 ///< the built-in scene's name, or the file's stem
+  int width = 1920, height = 1080;  ///< the target size the scene was made for
+  Rgba8 clear_color{0, 0, 0, 255};  ///< for RenderTarget::set_clear()
+  float clear_depth = 1.0f;         ///< for RenderTarget::set_clear()
+  std::vector<Mesh> meshes;         ///< drawn in this order
+  /// How the clip-space meshes were projected: `inverse(camera.view_projection) * position`
+  /// gives a vertex back in world space (OBJ: model space), e.g. to view it from elsewhere.
+  Camera camera;
 
-  /// Draws viewing every mesh, in order.
+  /// Draws viewing every mesh, in order (valid while the scene lives and is not modified).
   std::vector<Draw> draws() const;
+  /// Triangles submitted by all meshes.
   std::size_t triangle_count() const;
   /// Sets every mesh's state with `f(DrawState&)`, e.g. to apply command-line options.
   template <class F>
@@ -53,32 +67,39 @@ struct Scene {
 /// Names of the built-in scenes: default, random-small, random-large, slivers, star, fan.
 std::vector<std::string> builtin_scene_names();
 
-/// A built-in scene at the given size; deterministic for a given name, size and seed.
-/// Throws Error{kInvalidArgument} for an unknown name.
+/// A built-in scene made for a width × height target; deterministic for a given name, size and
+/// seed (only the random scenes use the seed). Throws Error{kInvalidTargetSize} unless
+/// 1 <= width, height <= kMaxTargetSize, and Error{kInvalidArgument} for an unknown name.
 Scene builtin_scene(const std::string& name, int width = 1920, int height = 1080,
                     std::uint64_t seed = 1);
 
-/// Reads a screen-space `.tris` file (shared/formats/screen-triangles.md). Throws Error{kParse}
-/// naming the file and line of the first malformed line, or Error{kIo}; nothing is returned
+/// Reads a screen-space `.tris` file (shared/formats/screen-triangles.md) into a Scene with one
+/// screen-space Mesh of per-vertex colours. Throws Error{kParse} naming the file and line of
+/// the first malformed line, or Error{kIo} if the file cannot be read; nothing is returned
 /// from a file with errors.
 Scene load_tris(const std::filesystem::path& path);
 /// The same, from text in memory; `name` stands for the file name in error messages.
+/// Throws Error{kParse}.
 Scene parse_tris(const std::string& text, const std::string& name = "<memory>");
 /// Writes a scene as `.tris`. Clip-space meshes are projected to pixels with the scene's size;
-/// triangles crossing the near plane, or culled by their state, are skipped. Throws Error{kIo}.
+/// triangles crossing the near plane, or culled by their state, are skipped. The file is
+/// written whole or not at all. Throws Error{kInvalidArgument} for a scene size outside
+/// 1..kMaxTargetSize, Error{kIndexOutOfRange} or Error{kInvalidDraw} for a mesh that
+/// Renderer::render() would reject, and Error{kIo} if the file cannot be written.
 void save_tris(const Scene& scene, const std::filesystem::path& path);
 
-/// Camera for OBJ scenes: a perspective view of the mesh.
-struct Camera {
-  glm::mat4 view_projection{1.0f};
-};
-/// Loads a Wavefront OBJ mesh (positions and faces; polygons are fanned into triangles) with a
-/// camera that frames it. Vertex colours come from the OBJ extension `v x y z r g b` if present,
-/// otherwise from the normal so that the shape reads. Throws Error{kParse} or Error{kIo}.
+/// Loads a Wavefront OBJ mesh (positions and faces; polygons are fanned into triangles; normals,
+/// texture coordinates and materials are ignored) into a Scene with one clip-space Mesh, three
+/// vertices per triangle, seen by a camera that frames the mesh's bounding sphere in a
+/// width × height target (Scene::camera). Vertex colours come from the OBJ extension
+/// `v x y z r g b` if every vertex has one, otherwise from a lit shade of the face normal so
+/// that the shape reads. Throws Error{kInvalidArgument} for a size outside 1..kMaxTargetSize,
+/// Error{kParse} for a malformed file (naming the line where it can), or Error{kIo}.
 Scene load_obj(const std::filesystem::path& path, int width = 1920, int height = 1080);
 
-/// Writes the target's resolved image as PNG (.png) or binary PPM (.ppm), chosen by extension.
-/// Throws Error{kIo} or Error{kInvalidArgument} for another extension.
+/// Writes the target's resolved image as PNG (.png, RGBA) or binary PPM (.ppm, RGB), chosen by
+/// the extension in any case. The file is written whole or not at all. Throws Error{kIo} if it
+/// cannot be written, or Error{kInvalidArgument} for another extension.
 void write_image(const RenderTarget& target, const std::filesystem::path& path);
 
 }  // namespace mosaic

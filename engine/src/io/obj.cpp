@@ -290,6 +290,7 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
   scene.width = width;
   scene.height = height;
   scene.clear_color = kClearColor;
+  scene.camera.view_projection = glm::mat4(view_projection);
   scene.meshes.push_back(std::move(mesh));
   return scene;
 }

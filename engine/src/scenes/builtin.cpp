@@ -398,6 +398,7 @@ Scene showcase(Scene scene) {
       perspective(kFocal, static_cast<double>(scene.width) / scene.height, kNear, kFar) *
       look_at({0.0, 2.5, 7.0}, {0.0, 0.2, 0.0}, {0.0, 1.0, 0.0});
   scene.clear_color = rgb(24, 28, 44);  // night blue: every object stands out from it
+  scene.camera.view_projection = glm::mat4(vp);
 
   // Ground: a checkerboard at y = -1 whose receding edges show aliasing plainly.
   constexpr int kTilesX = 16, kTilesZ = 18;
