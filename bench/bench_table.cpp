@@ -317,10 +317,20 @@ int main(int argc, char** argv) {
     const Results r = load(argv[1]);
     const std::string tsc = r.context.is_object() ? r.context.value("tsc_ghz", "?") : "?";
     const std::string isa = r.context.is_object() ? r.context.value("mosaic_isa", "?") : "?";
+    // The load average when the run started: on a shared machine it says how far to trust it.
+    std::string load = "?";
+    if (r.context.is_object() && r.context.contains("load_avg") &&
+        r.context["load_avg"].is_array() && !r.context["load_avg"].empty() &&
+        r.context["load_avg"][0].is_number())
+      load = fmt(r.context["load_avg"][0].get<double>(), "%.2f");
+    const int cpus = r.context.is_object() ? r.context.value("num_cpus", 0) : 0;
     std::cout << "Medians of " << r.repetitions << " repetition" << (r.repetitions == 1 ? "" : "s")
               << "; 1920×1080, flat colour, depth test `less`; fast path " << isa << "; TSC "
               << fmt(std::stod(tsc == "?" ? "0" : tsc), "%.2f")
               << " GHz (TSC cycles tick at the nominal clock, not the turbo clock). "
+                 "Load average at the start: "
+              << load << " on " << cpus
+              << " CPUs. "
                  "Gsamples/s counts FrameStats::samples_tested: covered samples that reached "
                  "the depth test (blocks rejected by hierarchical z are not counted).\n\n";
     frames_table(r);

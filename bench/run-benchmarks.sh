@@ -7,6 +7,8 @@
 # OUT (the JSON file, default <build>/bench/bench-results.json).
 # Gives: Google Benchmark's console table on stderr, the JSON in OUT, and the markdown tables on
 # stdout. About 3 to 5 minutes on 2 cores with REPS=5.
+# The repetitions of all cases are interleaved in random order, so that a burst of load from
+# other work on the machine spreads over many cases instead of spoiling every repetition of one.
 set -eu
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -25,6 +27,7 @@ for exe in "$bench" "$table"; do
 done
 
 "$bench" --benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true \
+  --benchmark_enable_random_interleaving=true \
   --benchmark_out="$out" --benchmark_out_format=json \
   ${FILTER:+"--benchmark_filter=$FILTER"} >&2
 "$table" "$out"
