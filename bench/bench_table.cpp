@@ -38,6 +38,7 @@ const char* const kIsaOrder[] = {"reference", "sse4.1", "avx2", "avx512"};
 /// One case: its median wall time and median counters.
 struct Case {
   double ms = 0;
+  double cpu_ms = 0;  ///< CPU time of the thread that called render(), for the CPU / wall column
   std::map<std::string, double> counters;
   std::optional<double> counter(const std::string& k) const {
     const auto it = counters.find(k);
@@ -134,6 +135,7 @@ Results load(const std::string& path) {
       if (type == "aggregate" && b.value("aggregate_name", std::string()) != "median") continue;
       Case c;
       c.ms = to_ms(b.at("real_time").get<double>(), b.value("time_unit", std::string("ns")));
+      c.cpu_ms = to_ms(b.value("cpu_time", 0.0), b.value("time_unit", std::string("ns")));
       for (const auto& [k, v] : b.items())
         if (!is_field(k) && v.is_number()) c.counters[k] = v.get<double>();
       r.repetitions = std::max(r.repetitions, b.value("repetitions", 1));
@@ -157,6 +159,9 @@ Results load(const std::string& path) {
     std::vector<double> ms;
     for (const Case& x : v) ms.push_back(x.ms);
     c.ms = median(ms);
+    std::vector<double> cpu;
+    for (const Case& x : v) cpu.push_back(x.cpu_ms);
+    c.cpu_ms = median(cpu);
     for (const auto& [k, unused] : v.front().counters) {
       std::vector<double> xs;
       for (const Case& x : v)
@@ -203,9 +208,10 @@ const Case* find(const Results& r, const std::string& name) {
 }
 
 void frames_table(const Results& r) {
-  std::cout << "| scene | MSAA | threads | ms (median) | Mtri/s | Gsamples/s | "
-               "samples / TSC cycle / thread | target (4x, 2 threads) | ms / target |\n"
-               "|---|---|---|---|---|---|---|---|---|\n";
+  std::cout
+      << "| scene | MSAA | threads | ms (median) | Mtri/s | Gsamples/s | "
+         "samples / TSC cycle / thread | target (4x, 2 threads) | ms / target | CPU / wall |\n"
+         "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& s : scenes_of(r, "frame")) {
     for (const char* S : {"1x", "4x"}) {
       for (const char* T : {"t1", "t2"}) {
@@ -227,7 +233,7 @@ void frames_table(const Results& r) {
                   << fmt(c->ms, "%.2f") << " | " << fmt(mtri, "%.3g") << " | "
                   << fmt(gsamples, "%.3g") << " | "
                   << fmt(c->counter("samples/tsc_cycle/thread"), "%.3f") << " | " << target << " | "
-                  << distance << " |\n";
+                  << distance << " | " << fmt(c->cpu_ms / c->ms * 100, "%.0f %%") << " |\n";
       }
     }
   }
@@ -332,7 +338,10 @@ int main(int argc, char** argv) {
               << load << " on " << cpus
               << " CPUs. "
                  "Gsamples/s counts FrameStats::samples_tested: covered samples that reached "
-                 "the depth test (blocks rejected by hierarchical z are not counted).\n\n";
+                 "the depth test (blocks rejected by hierarchical z are not counted). "
+                 "CPU / wall: CPU time of the thread that called render() over wall time; well "
+                 "under 100 % on 1 thread means the run waited for a core taken by other work "
+                 "(on 2 threads it also shows the caller waiting for the other worker).\n\n";
     frames_table(r);
     std::cout << "\nSpeed-up of each instruction set over the scalar reference:\n\n";
     isa_table(r);
