@@ -1,15 +1,15 @@
 // mosaic/draw.hpp — one draw call: triangles, their colour, and the state they are drawn with.
 //
+// Takes: nothing (plain data). Gives: Draw and DrawState, which Renderer::render() consumes.
 // A Draw only points at the caller's buffers (std::span); they must stay alive for the
 // duration of the Renderer::render() call that uses them, and no longer.
 #pragma once
 
 #include <cstdint>
-#include <span>
-
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <span>
 
 #include "mosaic/types.hpp"
 
@@ -17,33 +17,38 @@ namespace mosaic {
 
 /// Fixed-function state of a draw.
 struct DrawState {
+  /// Which samples a triangle may write: those where `incoming depth OP stored depth` holds.
   DepthTest depth_test = DepthTest::kLess;
+  /// Whether samples that pass the depth test store the triangle's depth (colour is written
+  /// either way).
   bool depth_write = true;
-  CullMode cull = CullMode::kNone;
-  FrontFace front_face = FrontFace::kCounterClockwise;
-  FillRule fill_rule = FillRule::kD3D;
+  CullMode cull = CullMode::kNone;                      ///< which facing triangles to discard
+  FrontFace front_face = FrontFace::kCounterClockwise;  ///< the winding that faces the viewer
+  FillRule fill_rule = FillRule::kD3D;                  ///< who owns samples exactly on an edge
 };
 
 /// A list of triangles.
 ///
 /// Positions come either as `positions` (xyzw in `space`), or as `positions_xyz` (object-space
-/// xyz with w = 1) multiplied by `transform` into clip space. Triangles are `indices` taken three
-/// at a time, or vertices 0,1,2, 3,4,5, … when `indices` is empty.
+/// xyz with w = 1) multiplied by `transform` into `space` (in double precision). Triangles are
+/// `indices` taken three at a time, or vertices 0,1,2, 3,4,5, … when `indices` is empty.
 ///
+/// Renderer::render() checks every draw before it draws any: counts that do not fit together
+/// throw Error{kInvalidDraw}, an index past the last vertex Error{kIndexOutOfRange}.
 /// Triangles with a NaN or infinite coordinate after the transform are culled and counted in
 /// FrameStats::triangles_nonfinite; they never affect other triangles.
 struct Draw {
-  Space space = Space::kClip;
-  std::span<const glm::vec4> positions;
+  Space space = Space::kClip;            ///< the space of `positions`, or of `transform`'s results
+  std::span<const glm::vec4> positions;  ///< xyzw in `space`; empty if positions_xyz is used
   std::span<const glm::vec3> positions_xyz;  ///< used instead of `positions` when non-empty
   glm::mat4 transform{1.0f};                 ///< applied to positions_xyz only
   std::span<const std::uint32_t> indices;    ///< size a multiple of 3; every index < vertex count
 
-  ColorSource color_source = ColorSource::kConstant;
-  Rgba8 color{255, 255, 255, 255};  ///< for kConstant
-  std::span<const Rgba8> colors;    ///< one per triangle (kPerTriangle) or per vertex (kPerVertex)
+  ColorSource color_source = ColorSource::kConstant;  ///< which of the two fields below is read
+  Rgba8 color{255, 255, 255, 255};                    ///< for kConstant
+  std::span<const Rgba8> colors;  ///< one per triangle (kPerTriangle) or per vertex (kPerVertex)
 
-  DrawState state;
+  DrawState state;  ///< depth test and write, culling, fill rule
 };
 
 }  // namespace mosaic

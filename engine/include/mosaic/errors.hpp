@@ -25,6 +25,7 @@ enum class Errc {
 /// A rejected input. `what()` is a single line, fit to print as is.
 class Error : public std::runtime_error {
  public:
+  /// An error of kind `code`; `message` should be one line that names what was rejected.
   Error(Errc code, const std::string& message) : std::runtime_error(message), code_(code) {}
   /// The category of the rejection, for programs that react to it.
   Errc code() const noexcept { return code_; }

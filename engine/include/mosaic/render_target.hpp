@@ -1,7 +1,7 @@
 // mosaic/render_target.hpp — where a frame lands.
 //
-// Takes: a size and a sample count. Gives: the resolved RGBA8 image of the last frame and,
-// when asked for, the per-sample colour and float32 depth that the resolve read.
+// Takes: a size, a sample count and TargetOptions. Gives: the resolved RGBA8 image of the last
+// frame and, when asked for, the per-sample colour and float32 depth that the resolve read.
 #pragma once
 
 #include <cstdint>
@@ -30,18 +30,21 @@ class RenderTarget {
   /// Error{kUnsupportedSampleCount} unless samples is 1, 4, 8 or 16.
   RenderTarget(int width, int height, int samples = 1, TargetOptions options = {});
 
-  int width() const noexcept { return width_; }
-  int height() const noexcept { return height_; }
-  int samples() const noexcept { return samples_; }
+  int width() const noexcept { return width_; }      ///< in pixels
+  int height() const noexcept { return height_; }    ///< in pixels
+  int samples() const noexcept { return samples_; }  ///< per pixel: 1, 4, 8 or 16
+  /// The per-sample buffers this target keeps.
   const TargetOptions& options() const noexcept { return options_; }
 
-  /// The colour and depth every sample starts each frame with. Depth must be finite.
+  /// The colour and depth every sample starts each frame with (defaults: opaque black, 1).
+  /// Throws Error{kInvalidArgument} for a depth that is not finite, changing nothing.
   void set_clear(Rgba8 color, float depth = 1.0f);
-  Rgba8 clear_color() const noexcept { return clear_color_; }
-  float clear_depth() const noexcept { return clear_depth_; }
+  Rgba8 clear_color() const noexcept { return clear_color_; }  ///< as set by set_clear()
+  float clear_depth() const noexcept { return clear_depth_; }  ///< as set by set_clear()
 
   /// The resolved image, row-major, top row first: pixel (x, y) is color()[y * width() + x].
   std::span<const Rgba8> color() const noexcept { return color_; }
+  /// The resolved pixel (x, y); requires 0 <= x < width() and 0 <= y < height() (unchecked).
   Rgba8 pixel(int x, int y) const { return color_[static_cast<std::size_t>(y) * width_ + x]; }
 
   /// Per-sample depth of the last frame, index ((y * width + x) * samples + s); empty unless

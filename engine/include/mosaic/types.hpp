@@ -1,4 +1,6 @@
 // mosaic/types.hpp — small value types and enums shared by the whole public API.
+//
+// Takes: nothing. Gives: Rgba8, the draw-state enums, Space, Isa, and the size limit of a target.
 #pragma once
 
 #include <cstdint>
@@ -11,7 +13,8 @@ inline constexpr int kMaxTargetSize = 16384;
 
 /// An 8-bit-per-channel colour, straight (not premultiplied) alpha.
 struct Rgba8 {
-  std::uint8_t r = 0, g = 0, b = 0, a = 255;
+  std::uint8_t r = 0, g = 0, b = 0;  ///< red, green, blue, 0 to 255
+  std::uint8_t a = 255;              ///< alpha, stored with the colour (255 = opaque)
   friend bool operator==(const Rgba8&, const Rgba8&) = default;
 };
 
@@ -25,11 +28,18 @@ enum class DepthTest : std::uint8_t {
 };
 
 /// Which triangles are discarded before rasterization.
-enum class CullMode : std::uint8_t { kNone, kBack, kFront };
+enum class CullMode : std::uint8_t {
+  kNone,   ///< draw both faces
+  kBack,   ///< discard triangles facing away (see FrontFace)
+  kFront,  ///< discard triangles facing the viewer
+};
 
 /// Which winding is the front face, as the triangle appears on screen. OpenGL's default,
 /// counter-clockwise in y-up NDC, also appears counter-clockwise on screen.
-enum class FrontFace : std::uint8_t { kCounterClockwise, kClockwise };
+enum class FrontFace : std::uint8_t {
+  kCounterClockwise,  ///< counter-clockwise on screen faces the viewer (OpenGL's default)
+  kClockwise,         ///< clockwise on screen faces the viewer
+};
 
 /// How a sample lying exactly on an edge is decided. Both rules make two triangles that share an
 /// edge cover each such sample exactly once.
@@ -55,9 +65,9 @@ enum class Space : std::uint8_t {
 enum class Isa : std::uint8_t {
   kAuto,       ///< the best the CPU supports
   kReference,  ///< the exact scalar reference rasterizer (the oracle; slow)
-  kSse41,
-  kAvx2,
-  kAvx512,
+  kSse41,      ///< SSE4.1 tile kernels, 4 lanes of 32 bits
+  kAvx2,       ///< AVX2 tile kernels, 8 lanes
+  kAvx512,     ///< AVX-512 (F, CD, DQ, BW, VL) tile kernels, 16 lanes
 };
 
 /// Short lower-case name of an ISA ("auto", "reference", "sse4.1", "avx2", "avx512").
