@@ -126,6 +126,20 @@ cmake)
   [ ! -e "$work/orbit/frame_0003.png" ] || fail "orbit wrote more frames than asked for"
   quiet "$bin/orbit/orbit" "$source/tests/data/cube.obj" --frames 2 --size 160 90 --no-images
   grep -q 'orbit: .*cube.obj, 12 triangles' "$work/last-$step.log" || fail "orbit did not load cube.obj"
+  # The version file: the examples asked for 0.1 and got it; the next minor version must be
+  # refused (before 1.0 a minor release may break the API).
+  next=$(echo "$version" | awk -F. '{ printf "%d.%d", $1, $2 + 1 }')
+  rm -rf "$work/version_check"
+  mkdir -p "$work/version_check"
+  printf '%s\n' 'cmake_minimum_required(VERSION 3.25)' 'project(version_check LANGUAGES CXX)' \
+    "find_package(mosaic $next CONFIG REQUIRED)" >"$work/version_check/CMakeLists.txt"
+  if "$cmake" -S "$work/version_check" -B "$work/version_check/build" -G "$generator" \
+    -DCMAKE_MAKE_PROGRAM="$make_program" -DCMAKE_CXX_COMPILER="$cxx" \
+    -DCMAKE_PREFIX_PATH="$prefix" >"$work/version_check.log" 2>&1; then
+    fail "find_package(mosaic $next) accepted the installed version $version"
+  fi
+  grep -q "requested version \"$next\"" "$work/version_check.log" ||
+    fail "find_package(mosaic $next) failed for another reason: $(cat "$work/version_check.log")"
   ;;
 
 pkgconfig)
