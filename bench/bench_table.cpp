@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "mosaic/errors.hpp"
+#include "mosaic/scene.hpp"
 
 namespace {
 
@@ -191,7 +192,8 @@ std::string segment(const std::string& name, int i) {
   return name.substr(b, name.find('/', b) - b);
 }
 
-/// Scenes in the order the file first names them under `prefix`.
+/// Scenes named under `prefix`: the built-in ones in mosaic::builtin_scene_names() order (the
+/// file's order is random when repetitions are interleaved), then any other in the file's order.
 std::vector<std::string> scenes_of(const Results& r, const std::string& prefix) {
   std::vector<std::string> out;
   for (const std::string& n : r.order) {
@@ -199,6 +201,10 @@ std::vector<std::string> scenes_of(const Results& r, const std::string& prefix) 
     const std::string s = segment(n, 1);
     if (std::find(out.begin(), out.end(), s) == out.end()) out.push_back(s);
   }
+  const std::vector<std::string> known = mosaic::builtin_scene_names();
+  std::stable_sort(out.begin(), out.end(), [&](const std::string& a, const std::string& b) {
+    return std::find(known.begin(), known.end(), a) < std::find(known.begin(), known.end(), b);
+  });
   return out;
 }
 
