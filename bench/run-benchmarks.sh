@@ -3,17 +3,17 @@
 #
 # Takes: an optional build directory (default build/release, the release preset's), in which
 # the targets mosaic_bench and mosaic_bench_table are built; environment REPS (repetitions,
-# default 5: the tables show medians), FILTER (a --benchmark_filter regex, default all) and
+# default 7: the tables show medians), FILTER (a --benchmark_filter regex, default all) and
 # OUT (the JSON file, default <build>/bench/bench-results.json).
 # Gives: Google Benchmark's console table on stderr, the JSON in OUT, and the markdown tables on
-# stdout. About 3 to 5 minutes on 2 cores with REPS=5.
+# stdout. About 3 minutes on an idle 2-core machine with REPS=7.
 # The repetitions of all cases are interleaved in random order, so that a burst of load from
 # other work on the machine spreads over many cases instead of spoiling every repetition of one.
 set -eu
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build/release"}
-reps=${REPS:-5}
+reps=${REPS:-7}
 out=${OUT:-"$build/bench/bench-results.json"}
 bench="$build/bench/mosaic-bench"
 table="$build/bench/mosaic-bench-table"
