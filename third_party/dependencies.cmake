@@ -9,6 +9,8 @@ find_package(CLI11 REQUIRED)             # libcli11-dev
 find_package(nlohmann_json REQUIRED)     # nlohmann-json3-dev
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)   # libstb-dev ships a compiled libstb
+pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)  # libfftw3-dev: spectra in mosaic report
+pkg_check_modules(GMPXX REQUIRED IMPORTED_TARGET gmpxx)  # libgmp-dev: exact rational areas (mosaic report)
 
 if(MOSAIC_BUILD_TESTS)
   find_package(GTest REQUIRED)           # libgtest-dev

@@ -19,6 +19,8 @@ packages=(
   libegl-mesa0          # Mesa's EGL vendor library: EGL_MESA_platform_surfaceless
   libgl1-mesa-dri       # Mesa's gallium drivers, llvmpipe among them
   libgl-dev             # OpenGL headers (GL/glcorearb.h) and libOpenGL
+  libfftw3-dev          # FFTW: spectra and aliasing energy in `mosaic report`
+  libgmp-dev            # GMP rationals: exact triangle-pixel areas, the ground truth of `mosaic report`
 )
 
 missing=()
