@@ -35,12 +35,14 @@ SnappedTriangle tri(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int6
 }
 
 TEST(QualityArea, TriangleCoveringThePixelIsExactlyOne) {
-  const SnappedTriangle t = tri(-10 * kOne, -10 * kOne, 30 * kOne, -10 * kOne, -10 * kOne, 30 * kOne);
+  const SnappedTriangle t =
+      tri(-10 * kOne, -10 * kOne, 30 * kOne, -10 * kOne, -10 * kOne, 30 * kOne);
   EXPECT_EQ(exact_area(t, 3, 4), mpq_class(1));
   EXPECT_EQ(classify(t, 3, 4), PixelClass::kInside);
   EXPECT_EQ(coverage(t, 3, 4), 1.0);
   // Winding does not matter.
-  const SnappedTriangle r = tri(-10 * kOne, -10 * kOne, -10 * kOne, 30 * kOne, 30 * kOne, -10 * kOne);
+  const SnappedTriangle r =
+      tri(-10 * kOne, -10 * kOne, -10 * kOne, 30 * kOne, 30 * kOne, -10 * kOne);
   EXPECT_EQ(exact_area(r, 3, 4), mpq_class(1));
 }
 
@@ -65,8 +67,8 @@ TEST(QualityArea, VerticalSplitAtEverySubpixelStep) {
 
 TEST(QualityArea, SmallTriangleInsideOnePixel) {
   // Legs of 10/256 and 20/256 px: area 100 / 65536 px².
-  const SnappedTriangle t = tri(5 * kOne + 30, 9 * kOne + 40, 5 * kOne + 40, 9 * kOne + 40,
-                                5 * kOne + 30, 9 * kOne + 60);
+  const SnappedTriangle t =
+      tri(5 * kOne + 30, 9 * kOne + 40, 5 * kOne + 40, 9 * kOne + 40, 5 * kOne + 30, 9 * kOne + 60);
   EXPECT_EQ(exact_area(t, 5, 9), q(100, 65536));
   EXPECT_EQ(exact_area(t, 4, 9), mpq_class(0));
 }
@@ -153,8 +155,8 @@ TEST(QualityArea, RandomTrianglesAgreeWithDenseSamplingWithinItsBound) {
   std::uniform_int_distribution<std::int64_t> coord(-2 * kOne, 3 * kOne);
   int partial = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    const SnappedTriangle t = tri(coord(rng), coord(rng), coord(rng), coord(rng), coord(rng),
-                                  coord(rng));
+    const SnappedTriangle t =
+        tri(coord(rng), coord(rng), coord(rng), coord(rng), coord(rng), coord(rng));
     const double exact = exact_area(t, 0, 0).get_d();
     EXPECT_NEAR(sampled_area(t, 0, 0), exact, kBound) << trial;
     EXPECT_EQ(coverage(t, 0, 0), exact);
@@ -164,8 +166,8 @@ TEST(QualityArea, RandomTrianglesAgreeWithDenseSamplingWithinItsBound) {
 }
 
 TEST(QualityArea, SnapIsTheEnginesSnap) {
-  const SnappedTriangle t = snap_triangle({1.5f, 2.25f, 0, 1}, {3.0f + 1.0f / 512, 0, 0, 1},
-                                          {0.001f, 7.0f, 0, 1});
+  const SnappedTriangle t =
+      snap_triangle({1.5f, 2.25f, 0, 1}, {3.0f + 1.0f / 512, 0, 0, 1}, {0.001f, 7.0f, 0, 1});
   EXPECT_EQ(t.x[0], 384);
   EXPECT_EQ(t.y[0], 576);
   EXPECT_EQ(t.x[1], 3 * 256 + 1);  // a tie rounds up

@@ -29,16 +29,20 @@ struct Offset {
 const std::vector<Offset>& pattern(int samples) {
   static const std::vector<Offset> p1{{0, 0}};
   static const std::vector<Offset> p4{{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
-  static const std::vector<Offset> p8{{1, -3}, {-1, 3}, {5, 1},  {-3, -5},
+  static const std::vector<Offset> p8{{1, -3}, {-1, 3},  {5, 1}, {-3, -5},
                                       {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
-  static const std::vector<Offset> p16{{1, 1},   {-1, -3}, {-3, 2}, {4, -1}, {-5, -2}, {2, 5},
-                                       {5, 3},   {3, -5},  {-2, 6}, {0, -7}, {-4, -6}, {-6, 4},
-                                       {-8, 0},  {7, -4},  {6, 7},  {-7, -8}};
+  static const std::vector<Offset> p16{{1, 1},  {-1, -3}, {-3, 2}, {4, -1}, {-5, -2}, {2, 5},
+                                       {5, 3},  {3, -5},  {-2, 6}, {0, -7}, {-4, -6}, {-6, 4},
+                                       {-8, 0}, {7, -4},  {6, 7},  {-7, -8}};
   switch (samples) {
-    case 1: return p1;
-    case 4: return p4;
-    case 8: return p8;
-    default: return p16;
+    case 1:
+      return p1;
+    case 4:
+      return p4;
+    case 8:
+      return p8;
+    default:
+      return p16;
   }
 }
 
@@ -84,7 +88,8 @@ PatternError integrate(int samples) {
       const double d = -h + 2 * h * (j + 0.5) / kOffsets;
       int in = 0;
       for (const Offset& o : pat) in += nx * o.dx / 16.0 + ny * o.dy / 16.0 <= d;
-      const double e = static_cast<double>(in) / static_cast<double>(pat.size()) - half_plane_area(nx, ny, d);
+      const double e =
+          static_cast<double>(in) / static_cast<double>(pat.size()) - half_plane_area(nx, ny, d);
       const double w = h;  // the cell's share of the measure: d-width 2h / kOffsets
       sum_w += w;
       sum_we2 += w * e * e;
@@ -135,7 +140,9 @@ RenderedError render_edges(int samples, int lines) {
         if (classify(t, x, y) != PixelClass::kPartial) continue;
         int white = 0;
         for (int s = 0; s < samples; ++s)
-          white += target.sample_color()[(static_cast<std::size_t>(y) * kSize + x) * samples + s].r == 255;
+          white +=
+              target.sample_color()[(static_cast<std::size_t>(y) * kSize + x) * samples + s].r ==
+              255;
         const double e = static_cast<double>(white) / samples - exact_area(t, x, y).get_d();
         line_sq += e * e;
         line_n += 1;
@@ -203,13 +210,12 @@ double mode_rms(const Scene& s, const Image& truth, int samples, bool ssaa) {
   target.set_clear(s.clear_color, s.clear_depth);
   const std::vector<Draw> draws = s.draws();
   renderer.render(Frame{draws, ssaa}, target);
-  return compare(truth, to_image(target.color(), s.width, s.height, {0, 0, s.width, s.height}))
-      .rms;
+  return compare(truth, to_image(target.color(), s.width, s.height, {0, 0, s.width, s.height})).rms;
 }
 
 TEST(ModeError, FallsAsTheSampleCountRises) {
-  for (const Scene& s : {builtin_scene("star", 160, 96), zone_plate_scene(160, 96),
-                         mesh_scene(160, 96)}) {
+  for (const Scene& s :
+       {builtin_scene("star", 160, 96), zone_plate_scene(160, 96), mesh_scene(160, 96)}) {
     const Image truth = exact_box_image(s, {0, 0, s.width, s.height});
     const double e1 = mode_rms(s, truth, 1, false), e4 = mode_rms(s, truth, 4, false),
                  e8 = mode_rms(s, truth, 8, false), e16 = mode_rms(s, truth, 16, false);

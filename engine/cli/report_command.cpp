@@ -95,10 +95,17 @@ std::vector<Rgba8> run_mode(const Mode& mode, const Scene& scene, Renderer& rend
   renderer.render(Frame{draws, mode.ssaa, false}, target);
   std::vector<Rgba8> out(target.color().begin(), target.color().end());
   switch (mode.post) {
-    case PostPass::kNone: break;
-    case PostPass::kFxaa: post::fxaa(target.color(), scene.width, scene.height, out); break;
-    case PostPass::kTent: post::filter_resolve(target, post::Filter::kTent, out); break;
-    case PostPass::kGaussian: post::filter_resolve(target, post::Filter::kGaussian, out); break;
+    case PostPass::kNone:
+      break;
+    case PostPass::kFxaa:
+      post::fxaa(target.color(), scene.width, scene.height, out);
+      break;
+    case PostPass::kTent:
+      post::filter_resolve(target, post::Filter::kTent, out);
+      break;
+    case PostPass::kGaussian:
+      post::filter_resolve(target, post::Filter::kGaussian, out);
+      break;
   }
   return out;
 }
@@ -160,10 +167,14 @@ std::vector<bool> pareto(const std::vector<Row>& rows) {
 std::string xml_escape(const std::string& s) {
   std::string o;
   for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else o += c;
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else
+      o += c;
   }
   return o;
 }
@@ -206,8 +217,8 @@ std::string pareto_svg(const std::string& title, const std::vector<Row>& rows) {
       const double x = X(v);
       s << "<line x1=\"" << x << "\" y1=\"" << kSvgMargin << "\" x2=\"" << x << "\" y2=\""
         << kSvgMargin + ph << "\" stroke=\"" << (m == 1.0 ? "#bbb" : "#eee") << "\"/>\n";
-      s << "<text x=\"" << x << "\" y=\"" << kSvgMargin + ph + 16
-        << "\" text-anchor=\"middle\">" << v << "</text>\n";
+      s << "<text x=\"" << x << "\" y=\"" << kSvgMargin + ph + 16 << "\" text-anchor=\"middle\">"
+        << v << "</text>\n";
     }
   }
   for (double d = ly0; d <= ly1; d += 1) {
@@ -226,8 +237,9 @@ std::string pareto_svg(const std::string& title, const std::vector<Row>& rows) {
     << "\" height=\"" << ph << "\" fill=\"none\" stroke=\"black\"/>\n";
   s << "<text x=\"" << kSvgWidth / 2 << "\" y=\"" << kSvgHeight - 20
     << "\" text-anchor=\"middle\">ms per frame (median)</text>\n";
-  s << "<text x=\"18\" y=\"" << kSvgHeight / 2 << "\" text-anchor=\"middle\" transform=\"rotate(-90 18 "
-    << kSvgHeight / 2 << ")\">RMS error (1 = full colour range)</text>\n";
+  s << "<text x=\"18\" y=\"" << kSvgHeight / 2
+    << "\" text-anchor=\"middle\" transform=\"rotate(-90 18 " << kSvgHeight / 2
+    << ")\">RMS error (1 = full colour range)</text>\n";
   // The front as a staircase polyline, fastest first.
   std::vector<const Row*> f;
   for (std::size_t i = 0; i < rows.size(); ++i)
@@ -340,8 +352,9 @@ int run_report(const ReportOptions& o) {
     const Scene timing_scene = qs.make(size->width, size->height);
     const Scene error_scene = qs.make(esize->width, esize->height);
     const quality::Rect full{0, 0, esize->width, esize->height};
-    const quality::Image truth = qs.exact ? quality::exact_box_image(error_scene, full)
-                                          : quality::supersampled_image(error_scene, full, renderer);
+    const quality::Image truth = qs.exact
+                                     ? quality::exact_box_image(error_scene, full)
+                                     : quality::supersampled_image(error_scene, full, renderer);
     const std::optional<quality::Annulus> window = qs.window(esize->width, esize->height);
     std::vector<Row> rows;
     std::vector<std::vector<Rgba8>> images;
@@ -401,17 +414,21 @@ int run_report(const ReportOptions& o) {
          << quality::kSpectrumFloorDb << " dB black to " << quality::kSpectrumCeilDb
          << " dB white): the true chirp fills the disc out to Nyquist; aliasing shows as "
             "mirrored chirps.\n\n";
-      md << "| ground truth | 1x | 4x MSAA | 16x MSAA | FXAA on 1x | 16x Gaussian |\n|---|---|---|---|---|---|\n|";
+      md << "| ground truth | 1x | 4x MSAA | 16x MSAA | FXAA on 1x | 16x Gaussian "
+            "|\n|---|---|---|---|---|---|\n|";
       const std::vector<std::pair<std::string, std::vector<Rgba8>>> spectra = {
-          {"ground-truth", quality::to_rgba8(truth)}, {"1x", images[0]},
-          {"4x-msaa", images[1]},                     {"16x-msaa", images[3]},
-          {"fxaa-on-1x", images[7]},                  {"16x-gaussian", images[12]}};
+          {"ground-truth", quality::to_rgba8(truth)},
+          {"1x", images[0]},
+          {"4x-msaa", images[1]},
+          {"16x-msaa", images[3]},
+          {"fxaa-on-1x", images[7]},
+          {"16x-gaussian", images[12]}};
       for (const auto& [stem, img] : spectra) {
         const std::string file = "zoneplate-spectrum-" + stem + ".png";
-        quality::write_png(dir / file,
-                           quality::spectrum_image(quality::to_image(img, esize->width,
-                                                                     esize->height, full)),
-                           esize->width, esize->height);
+        quality::write_png(
+            dir / file,
+            quality::spectrum_image(quality::to_image(img, esize->width, esize->height, full)),
+            esize->width, esize->height);
         md << " ![" << stem << "](" << file << ") |";
       }
       md << "\n\n";

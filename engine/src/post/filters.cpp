@@ -31,9 +31,12 @@ constexpr double kOffsetPx = 1.0 / 16.0;
 
 double filter_radius(Filter filter) noexcept {
   switch (filter) {
-    case Filter::kBox: return 0.5;
-    case Filter::kTent: return kTentRadius;
-    case Filter::kGaussian: return kGaussRadius;
+    case Filter::kBox:
+      return 0.5;
+    case Filter::kTent:
+      return kTentRadius;
+    case Filter::kGaussian:
+      return kGaussRadius;
   }
   return 0.5;
 }
@@ -41,8 +44,10 @@ double filter_radius(Filter filter) noexcept {
 double filter_weight(Filter filter, double t) noexcept {
   const double a = std::fabs(t);
   switch (filter) {
-    case Filter::kBox: return a <= 0.5 ? 1.0 : 0.0;
-    case Filter::kTent: return a < kTentRadius ? 1.0 - a / kTentRadius : 0.0;
+    case Filter::kBox:
+      return a <= 0.5 ? 1.0 : 0.0;
+    case Filter::kTent:
+      return a < kTentRadius ? 1.0 - a / kTentRadius : 0.0;
     case Filter::kGaussian:
       return a < kGaussRadius ? std::exp(-a * a / (2 * kGaussSigma * kGaussSigma)) : 0.0;
   }

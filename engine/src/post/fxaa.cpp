@@ -51,8 +51,7 @@ void fxaa(std::span<const Rgba8> in, int width, int height, std::span<Rgba8> out
     for (int x = 0; x < width; ++x) {
       const std::size_t idx = static_cast<std::size_t>(y) * width + x;
       out[idx] = in[idx];
-      const double m = L(x, y), nn = L(x, y - 1), s = L(x, y + 1), e = L(x + 1, y),
-                   w = L(x - 1, y);
+      const double m = L(x, y), nn = L(x, y - 1), s = L(x, y + 1), e = L(x + 1, y), w = L(x - 1, y);
       const double hi = std::max({m, nn, s, e, w}), lo = std::min({m, nn, s, e, w});
       const double range = hi - lo;
       if (range < std::max(o.edge_threshold_min, hi * o.edge_threshold)) continue;
@@ -60,10 +59,10 @@ void fxaa(std::span<const Rgba8> in, int width, int height, std::span<Rgba8> out
                    se = L(x + 1, y + 1);
       // FXAA's orientation test: second differences down the columns are large across a
       // horizontal edge, second differences along the rows across a vertical one.
-      const double edge_h = std::fabs(nw - 2 * w + sw) + 2 * std::fabs(nn - 2 * m + s) +
-                            std::fabs(ne - 2 * e + se);
-      const double edge_v = std::fabs(nw - 2 * nn + ne) + 2 * std::fabs(w - 2 * m + e) +
-                            std::fabs(sw - 2 * s + se);
+      const double edge_h =
+          std::fabs(nw - 2 * w + sw) + 2 * std::fabs(nn - 2 * m + s) + std::fabs(ne - 2 * e + se);
+      const double edge_v =
+          std::fabs(nw - 2 * nn + ne) + 2 * std::fabs(w - 2 * m + e) + std::fabs(sw - 2 * s + se);
       const bool horizontal = edge_h >= edge_v;
       // Neighbours across the edge: north/south for a horizontal edge, west/east otherwise.
       const double l1 = horizontal ? nn : w, l2 = horizontal ? s : e;
@@ -78,8 +77,7 @@ void fxaa(std::span<const Rgba8> in, int width, int height, std::span<Rgba8> out
       const int ax = horizontal ? 1 : 0, ay = horizontal ? 0 : 1;
       // Luma on the line half-way between the edge pixel row/column and the neighbour's.
       auto edge_luma = [&](int k) {
-        return 0.5 * (L(x + k * ax, y + k * ay) + L(x + k * ax + sx, y + k * ay + sy)) -
-               local_avg;
+        return 0.5 * (L(x + k * ax, y + k * ay) + L(x + k * ax + sx, y + k * ay + sy)) - local_avg;
       };
       int dn = 0, dp = 0;
       double end_n = 0, end_p = 0;

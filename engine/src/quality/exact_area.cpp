@@ -62,7 +62,8 @@ SnappedTriangle snap_triangle(const glm::vec4& a, const glm::vec4& b, const glm:
 mpq_class exact_area(const SnappedTriangle& t, int px, int py) {
   const std::int64_t ox = std::int64_t{px} * kOne, oy = std::int64_t{py} * kOne;
   std::vector<Point> poly;
-  for (int k = 0; k < 3; ++k) poly.push_back({mpq_class(long{t.x[k] - ox}), mpq_class(long{t.y[k] - oy})});
+  for (int k = 0; k < 3; ++k)
+    poly.push_back({mpq_class(long{t.x[k] - ox}), mpq_class(long{t.y[k] - oy})});
   poly = clip(poly, true, 0, true);
   poly = clip(poly, true, kOne, false);
   poly = clip(poly, false, 0, true);
@@ -109,9 +110,12 @@ PixelClass classify(const SnappedTriangle& t, int px, int py) {
 
 double coverage(const SnappedTriangle& t, int px, int py) {
   switch (classify(t, px, py)) {
-    case PixelClass::kOutside: return 0.0;
-    case PixelClass::kInside: return 1.0;
-    case PixelClass::kPartial: break;
+    case PixelClass::kOutside:
+      return 0.0;
+    case PixelClass::kInside:
+      return 1.0;
+    case PixelClass::kPartial:
+      break;
   }
   return exact_area(t, px, py).get_d();
 }

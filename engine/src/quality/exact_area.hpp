@@ -18,7 +18,6 @@
 
 #include <array>
 #include <cstdint>
-
 #include <glm/vec4.hpp>
 
 namespace mosaic::quality {

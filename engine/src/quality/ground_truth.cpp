@@ -15,8 +15,8 @@
 #include "front/fixed_point.hpp"
 #include "front/setup.hpp"
 #include "mosaic/errors.hpp"
-#include "quality/quality.hpp"
 #include "quality/exact_area.hpp"
+#include "quality/quality.hpp"
 
 namespace mosaic::quality {
 namespace {

@@ -142,7 +142,8 @@ Scene mesh_scene(int width, int height, std::uint64_t seed) {
   Rng rng(seed);
   const double cw = kMeshCover * width, ch = kMeshCover * height;
   const double cell = std::min(cw, ch) / kMeshCellsShort;
-  const int nx = std::max(1, static_cast<int>(cw / cell)), ny = std::max(1, static_cast<int>(ch / cell));
+  const int nx = std::max(1, static_cast<int>(cw / cell)),
+            ny = std::max(1, static_cast<int>(ch / cell));
   const double x0 = (width - nx * cell) / 2, y0 = (height - ny * cell) / 2;
   std::vector<glm::vec4> grid(static_cast<std::size_t>(nx + 1) * (ny + 1));
   for (int j = 0; j <= ny; ++j) {
@@ -184,7 +185,8 @@ Scene overlap_scene(int width, int height, std::uint64_t seed) {
     for (int k = 0; k < 3; ++k) {
       // Depth differs per vertex, so triangles cross each other along intersection lines.
       const float z = static_cast<float>(rng.uniform(0.05, 0.95));
-      m.positions.push_back(snapped(cx + rng.uniform(-size, size), cy + rng.uniform(-size, size), z));
+      m.positions.push_back(
+          snapped(cx + rng.uniform(-size, size), cy + rng.uniform(-size, size), z));
     }
     m.colors.push_back(rng.color());
   }
