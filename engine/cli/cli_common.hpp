@@ -40,6 +40,7 @@ struct Command {
 Command add_render_command(CLI::App& parent);
 Command add_export_command(CLI::App& parent);
 Command add_scenes_command(CLI::App& parent);
+Command add_stress_command(CLI::App& parent);
 Command add_report_command(CLI::App& parent);
 
 /// A target size given as "WxH".

@@ -45,6 +45,7 @@ int run(int argc, char** argv) {
       mosaic::cli::add_render_command(app),
       mosaic::cli::add_export_command(app),
       mosaic::cli::add_scenes_command(app),
+      mosaic::cli::add_stress_command(app),
       mosaic::cli::add_report_command(app),
   };
   try {
