@@ -7,7 +7,9 @@
 // edge, on the line between the pixel and that neighbour, until the luma there leaves the
 // edge's average by a quarter of the gradient (an end); (5) blend towards the neighbour by
 // 0.5 - distance-to-nearer-end / edge-length when that end turns the right way, or by the
-// sub-pixel term when it is larger. Pixels outside the image repeat the border.
+// sub-pixel term when it is larger. Pixels outside the image repeat the border. Rows run in parallel (oneTBB).
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -47,7 +49,8 @@ void fxaa(std::span<const Rgba8> in, int width, int height, std::span<Rgba8> out
     y = std::clamp(y, 0, height - 1);
     return in[static_cast<std::size_t>(y) * width + x];
   };
-  for (int y = 0; y < height; ++y) {
+  // Rows are independent (each reads `in` only): run them in parallel.
+  tbb::parallel_for(0, height, [&](int y) {
     for (int x = 0; x < width; ++x) {
       const std::size_t idx = static_cast<std::size_t>(y) * width + x;
       out[idx] = in[idx];
@@ -117,7 +120,7 @@ void fxaa(std::span<const Rgba8> in, int width, int height, std::span<Rgba8> out
       };
       out[idx] = {mix(a0.r, a1.r), mix(a0.g, a1.g), mix(a0.b, a1.b), a0.a};
     }
-  }
+  });
 }
 
 }  // namespace mosaic::post
