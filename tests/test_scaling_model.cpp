@@ -37,9 +37,9 @@ TEST(ScalingModel, ListScheduleByHand) {
   // 5 or more cores: every job starts at 0; the largest ends last.
   EXPECT_DOUBLE_EQ(list_schedule(costs, 5).ms, 3);
   EXPECT_DOUBLE_EQ(list_schedule(costs, 64).ms, 3);
-  EXPECT_TRUE(list_schedule(costs, 5).bound_by_largest());  // 3 >= 12 / 5
+  EXPECT_TRUE(list_schedule(costs, 5).bound_by_largest());   // 3 >= 12 / 5
   EXPECT_FALSE(list_schedule(costs, 3).bound_by_largest());  // 3 < 12 / 3
-  EXPECT_TRUE(list_schedule(costs, 4).bound_by_largest());  // 3 >= 12 / 4
+  EXPECT_TRUE(list_schedule(costs, 4).bound_by_largest());   // 3 >= 12 / 4
 }
 
 TEST(ScalingModel, EdgeCases) {

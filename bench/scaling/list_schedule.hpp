@@ -28,15 +28,13 @@ namespace mosaic::scaling {
 
 /// One stage of the model on one core count.
 struct StageModel {
-  double ms = 0;       ///< modelled makespan: the last job's finish time
-  double total = 0;    ///< sum of the job costs: the makespan on one core
-  double largest = 0;  ///< the largest job: no schedule finishes before it
+  double ms = 0;                ///< modelled makespan: the last job's finish time
+  double total = 0;             ///< sum of the job costs: the makespan on one core
+  double largest = 0;           ///< the largest job: no schedule finishes before it
   std::size_t largest_job = 0;  ///< index (in the caller's order) of the largest job
   int cores = 1;                ///< the core count modelled
   /// max(largest, total / cores): no schedule of these jobs on `cores` cores beats it.
-  double lower_bound() const {
-    return std::max(largest, total / static_cast<double>(cores));
-  }
+  double lower_bound() const { return std::max(largest, total / static_cast<double>(cores)); }
   /// Whether one job alone bounds the stage: largest >= total / cores.
   bool bound_by_largest() const { return largest >= total / static_cast<double>(cores); }
 };
@@ -71,9 +69,8 @@ inline StageModel list_schedule(std::span<const double> costs, int cores) {
 inline std::vector<std::size_t> busiest_first(std::span<const std::uint32_t> triangles) {
   std::vector<std::size_t> order(triangles.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return triangles[a] > triangles[b];
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return triangles[a] > triangles[b]; });
   return order;
 }
 

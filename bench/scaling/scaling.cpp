@@ -22,12 +22,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "list_schedule.hpp"
@@ -36,9 +39,9 @@
 namespace {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 using mosaic::scaling::FrameModel;
 using mosaic::scaling::StageModel;
+using nlohmann::json;
 
 // Untimed frames first: worker threads start, per-frame memory and caches settle.
 constexpr int kDefaultWarmup = 2;
@@ -49,6 +52,8 @@ constexpr int kDefaultFrames = 7;
 const std::vector<int> kDefaultCores{1, 2, 4, 8, 16, 64};
 // Relative tolerance of the invariant checks: the model only adds the costs, in other orders.
 constexpr double kSumTolerance = 1e-9;
+// The default tile edge (MOSAIC_TILE_SIZE), the reference column of --compare.
+constexpr int kDefaultTileSize = 64;
 
 // ---- the `corner` case: a dense mesh in one corner ----
 
@@ -131,11 +136,22 @@ struct Measured {
   std::string scene;
   int samples = 1;
   std::uint64_t triangles = 0, triangles_binned = 0;
-  int tile_size = 0;  // FrameStats::tile_size of the build
-  std::vector<mosaic::TileCost> tiles;   // ms: median over the cost frames
-  std::vector<mosaic::ChunkCost> chunks;  // ms_setup, ms_binning: medians
-  std::vector<double> frames_1t, frames_2t;
+  int tile_size = 0;                         // FrameStats::tile_size of the build
+  std::vector<mosaic::TileCost> tiles;       // ms: median over the cost frames
+  std::vector<mosaic::ChunkCost> chunks;     // ms_setup, ms_binning: medians
+  std::vector<double> frames_1t, frames_2t;  // wall ms, costs off
+  // CPU ms of the same frames: the calling thread alone at 1 thread (a one-slot arena runs
+  // everything on it), the whole process at 2. On a machine shared with other work, wall time
+  // above CPU time is time the frame waited for a core.
+  std::vector<double> cpu_1t, cpu_2t;
 };
+
+// Milliseconds of CPU time on `clock` (CLOCK_THREAD_CPUTIME_ID or CLOCK_PROCESS_CPUTIME_ID).
+double cpu_ms(clockid_t clock) {
+  timespec ts{};
+  clock_gettime(clock, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
+}
 
 struct Settings {
   int frames = kDefaultFrames, warmup = kDefaultWarmup;
@@ -193,18 +209,22 @@ Measured measure(const mosaic::Scene& scene, int samples, const Settings& set) {
   // Real frames: costs off, 1 and 2 threads alternating A B A B, each frame clear to resolve.
   mosaic::Renderer one({.threads = 1, .isa = set.isa});
   mosaic::Renderer two({.threads = 2, .isa = set.isa});
-  auto timed = [&](mosaic::Renderer& r) {
+  auto timed = [&](mosaic::Renderer& r, clockid_t cpu_clock, std::vector<double>* wall,
+                   std::vector<double>* cpu) {
+    const double c0 = cpu_ms(cpu_clock);
     const auto t0 = Clock::now();
     r.render(frame, target);
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (wall != nullptr) wall->push_back(ms);
+    if (cpu != nullptr) cpu->push_back(cpu_ms(cpu_clock) - c0);
   };
   for (int i = 0; i < set.warmup; ++i) {
-    timed(one);
-    timed(two);
+    timed(one, CLOCK_THREAD_CPUTIME_ID, nullptr, nullptr);
+    timed(two, CLOCK_PROCESS_CPUTIME_ID, nullptr, nullptr);
   }
   for (int f = 0; f < set.frames; ++f) {
-    m.frames_1t.push_back(timed(one));
-    m.frames_2t.push_back(timed(two));
+    timed(one, CLOCK_THREAD_CPUTIME_ID, &m.frames_1t, &m.cpu_1t);
+    timed(two, CLOCK_PROCESS_CPUTIME_ID, &m.frames_2t, &m.cpu_2t);
   }
   return m;
 }
@@ -238,8 +258,8 @@ struct ModelRow {
 // never cost more time, no stage beats max(largest job, total / P).
 void check_invariants(const std::string& what, const Costs& c, const std::vector<ModelRow>& rows) {
   auto fail = [&](const std::string& why) {
-    throw mosaic::Error(mosaic::Errc::kInvalidArgument, "model invariant broken for " + what +
-                                                            ": " + why);
+    throw mosaic::Error(mosaic::Errc::kInvalidArgument,
+                        "model invariant broken for " + what + ": " + why);
   };
   double sum = 0;
   for (const auto* v : {&c.setup, &c.binning, &c.tiles})
@@ -327,72 +347,82 @@ mosaic::Scene scene_by_name(const std::string& name, int width, int height) {
 
 int compare(const std::vector<std::string>& files, int cores) {
   struct Entry {
-    int tile_size;
-    double model_ms, model_1, lpt_ms, measured_1t, measured_2t;
-    std::size_t tiles;
+    int tile_size = 0;
+    std::size_t tiles = 0;
+    double model_ms = 0, lpt_ms = 0, model_1 = 0;  // modelled: P = cores, LPT, 1 core
+    double cpu_1t = 0, wall_1t = 0, wall_2t = 0;   // real frames
   };
-  // (scene, samples) in the order first seen → one entry per file.
+  // (scene, samples) in the order first seen → one entry per run that has it.
   std::vector<std::pair<std::string, int>> keys;
   std::map<std::pair<std::string, int>, std::vector<Entry>> entries;
   for (const std::string& f : files) {
     std::ifstream in(f);
     if (!in) throw mosaic::Error(mosaic::Errc::kIo, "cannot read " + f);
-    json j;
     try {
-      j = json::parse(in);
-    } catch (const json::exception& e) {
-      throw mosaic::Error(mosaic::Errc::kParse, f + ": " + e.what());
-    }
-    try {
+      const json j = json::parse(in);
       for (const json& c : j.at("cases")) {
-        const auto key = std::make_pair(c.at("scene").get<std::string>(), c.at("samples").get<int>());
-        const json* row = nullptr;
-        double one = 0;
+        const auto key =
+            std::make_pair(c.at("scene").get<std::string>(), c.at("samples").get<int>());
+        Entry e;
+        e.tile_size = j.at("tile_size").get<int>();
+        e.tiles = c.at("tiles").size();
+        e.cpu_1t = c.at("measured_1t_cpu_ms").get<double>();
+        e.wall_1t = c.at("measured_1t_ms").get<double>();
+        e.wall_2t = c.at("measured_2t_ms").get<double>();
+        bool found = false;
         for (const json& r : c.at("model")) {
-          if (r.at("cores").get<int>() == cores) row = &r;
-          if (r.at("cores").get<int>() == 1) one = r.at("renderer_order").at("ms").get<double>();
+          if (r.at("cores").get<int>() == 1)
+            e.model_1 = r.at("renderer_order").at("ms").get<double>();
+          if (r.at("cores").get<int>() != cores) continue;
+          e.model_ms = r.at("renderer_order").at("ms").get<double>();
+          e.lpt_ms = r.at("lpt_order").at("ms").get<double>();
+          found = true;
         }
-        if (row == nullptr)
+        if (!found)
           throw mosaic::Error(mosaic::Errc::kInvalidArgument,
                               f + " has no model for " + std::to_string(cores) + " cores");
         if (!entries.count(key)) keys.push_back(key);
-        entries[key].push_back({j.at("tile_size").get<int>(),
-                                row->at("renderer_order").at("ms").get<double>(), one,
-                                row->at("lpt_order").at("ms").get<double>(),
-                                c.at("measured_1t_ms").get<double>(),
-                                c.at("measured_2t_ms").get<double>(), c.at("tiles").size()});
+        entries[key].push_back(e);
       }
     } catch (const json::exception& e) {
       throw mosaic::Error(mosaic::Errc::kParse, f + ": " + e.what());
     }
   }
-  std::printf(
-      "| scene | samples | tile size | tiles | model %d cores ms | LPT %d cores ms | model 1 "
-      "core ms | measured 1T ms | measured 2T ms | best for %d cores |\n"
-      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n",
-      cores, cores, cores);
-  std::string summary =
-      "| scene | samples | best tile size | model " + std::to_string(cores) +
-      " cores ms | measured 1T ms | measured 2T ms |\n|---|---:|---:|---:|---:|---:|\n";
+  const std::string p = std::to_string(cores);
+  std::string table = "| scene | samples | tile size | tiles | model P=" + p + " ms | LPT P=" + p +
+                      " ms | model P=1 ms | real 1T CPU ms | real 1T ms | real 2T ms | |\n"
+                      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+  std::string summary = "| scene | samples | best tile size | model P=" + p +
+                        " ms | (tile 64: ms) | real 1T CPU ms | real 1T ms | real 2T ms |\n"
+                        "|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& key : keys) {
     std::vector<Entry>& es = entries[key];
-    std::sort(es.begin(), es.end(), [](const Entry& a, const Entry& b) {
-      return a.tile_size < b.tile_size;
-    });
+    std::stable_sort(es.begin(), es.end(),
+                     [](const Entry& a, const Entry& b) { return a.tile_size < b.tile_size; });
     const auto best = std::min_element(es.begin(), es.end(), [](const Entry& a, const Entry& b) {
       return a.model_ms < b.model_ms;
     });
-    for (const Entry& e : es)
-      std::printf("| %s | %d | %d | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %s |\n",
-                  key.first.c_str(), key.second, e.tile_size, e.tiles, e.model_ms, e.lpt_ms,
-                  e.model_1, e.measured_1t, e.measured_2t, &e == &*best ? "**best**" : "");
-    char row[256];
-    std::snprintf(row, sizeof row, "| %s | %d | %d | %.2f | %.2f | %.2f |\n", key.first.c_str(),
-                  key.second, best->tile_size, best->model_ms, best->measured_1t,
-                  best->measured_2t);
+    std::string at64 = "-";
+    char row[512];
+    for (const Entry& e : es) {
+      std::snprintf(row, sizeof row,
+                    "| %s | %d | %d | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %s |\n",
+                    key.first.c_str(), key.second, e.tile_size, e.tiles, e.model_ms, e.lpt_ms,
+                    e.model_1, e.cpu_1t, e.wall_1t, e.wall_2t, &e == &*best ? "**best**" : "");
+      table += row;
+      if (e.tile_size == kDefaultTileSize) at64 = fmt("%.2f", e.model_ms);
+    }
+    std::snprintf(row, sizeof row, "| %s | %d | %d | %.2f | %s | %.2f | %.2f | %.2f |\n",
+                  key.first.c_str(), key.second, best->tile_size, best->model_ms, at64.c_str(),
+                  best->cpu_1t, best->wall_1t, best->wall_2t);
     summary += row;
   }
-  std::printf("\nBest modelled %d-core frame per scene:\n\n%s", cores, summary.c_str());
+  std::printf(
+      "Modelled %d-core frame (tiles in the renderer's order) per tile size, with the real "
+      "1- and 2-thread frames of the same build:\n\n%s",
+      cores, table.c_str());
+  std::printf("\nBest tile size for the modelled %d-core frame per scene:\n\n%s", cores,
+              summary.c_str());
   return 0;
 }
 
@@ -448,7 +478,10 @@ int main(int argc, char** argv) {
                           "--isa " + isa_name + " is not an available fast path");
     std::sort(cores.begin(), cores.end());
     cores.erase(std::unique(cores.begin(), cores.end()), cores.end());
-    if (cores.front() != 1) cores.insert(cores.begin(), 1);  // speed-ups are over 1 core
+    // 1 core: the base of every speed-up; 2: the count this machine can check the model at.
+    for (int must : {2, 1})
+      if (std::find(cores.begin(), cores.end(), must) == cores.end()) cores.push_back(must);
+    std::sort(cores.begin(), cores.end());
 
     std::vector<mosaic::Scene> scenes;
     std::vector<std::string> names;
@@ -463,10 +496,14 @@ int main(int argc, char** argv) {
     if (scenes.empty()) throw mosaic::Error(mosaic::Errc::kInvalidArgument, "no scenes to run");
 
     const mosaic::Renderer probe({.threads = 1, .isa = set.isa});
+    // The machine's load when the run starts: times from a starved run read differently.
+    double load = 0;
+    if (getloadavg(&load, 1) != 1) load = -1;
     json out;
     out["isa"] = mosaic::to_string(probe.isa());
     out["frames"] = set.frames;
     out["warmup"] = set.warmup;
+    out["load_average"] = load;
     out["cores"] = cores;
     out["cases"] = json::array();
     int tile_size = 0;
@@ -476,8 +513,8 @@ int main(int argc, char** argv) {
         "chunk) | tiles | tile work ms | largest tile ms | at (x0,y0) px | triangles in it | "
         "largest / tile work | one tile bounds the tiles from |\n"
         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n";
-    std::string head = "| scene | samples | measured 1T ms | measured 2T ms | measured 2T ×";
-    std::string rule = "|---|---:|---:|---:|---:";
+    std::string head = "| scene | samples";
+    std::string rule = "|---|---:";
     for (int p : cores) {
       head += " | P=" + std::to_string(p);
       rule += "|---:";
@@ -486,6 +523,11 @@ int main(int argc, char** argv) {
     rule += "|\n";
     std::string renderer_table = head + rule, lpt_table = head + rule;
     std::string limits;
+    std::string validation =
+        "| scene | samples | model P=1 ms | real 1T CPU ms | real 1T ms | model P=2 ms | real 2T "
+        "ms "
+        "| real 2T CPU / wall | model ×2 | real ×2 |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
     for (const mosaic::Scene& scene : scenes) {
       for (const int samples : samples_list) {
@@ -498,7 +540,11 @@ int main(int argc, char** argv) {
 
         const FrameModel& one = rows.front().renderer_order;
         const StageModel& tiles = one.tiles;
-        const mosaic::TileCost& hot = m.tiles.empty() ? mosaic::TileCost{} : m.tiles[tiles.largest_job];
+        // The largest tile in tile order (largest_job counts in the order the model started them).
+        const auto hot_at = std::max_element(c.tiles.begin(), c.tiles.end());
+        const mosaic::TileCost hot =
+            m.tiles.empty() ? mosaic::TileCost{}
+                            : m.tiles[static_cast<std::size_t>(hot_at - c.tiles.begin())];
         const int tile_bound = bound_from(tiles.total, tiles.largest);
         const int setup_bound = bound_from(one.setup.total, one.setup.largest);
         const double m1 = median(m.frames_1t), m2 = median(m.frames_2t);
@@ -516,9 +562,7 @@ int main(int argc, char** argv) {
         work += row;
 
         auto table_row = [&](bool lpt) {
-          std::string r = "| " + scene.name + " | " + std::to_string(samples) + " | " +
-                          fmt("%.2f", m1) + " | " + fmt("%.2f", m2) + " | " +
-                          fmt("%.2f", m2 > 0 ? m1 / m2 : 0);
+          std::string r = "| " + scene.name + " | " + std::to_string(samples);
           const double base = (lpt ? rows.front().lpt_order : rows.front().renderer_order).ms();
           for (const ModelRow& mr : rows) {
             const FrameModel& f = lpt ? mr.lpt_order : mr.renderer_order;
@@ -531,6 +575,16 @@ int main(int argc, char** argv) {
         renderer_table += table_row(false);
         lpt_table += table_row(true);
 
+        // The model against the real frames at 1 and 2 threads.
+        const double c1 = median(m.cpu_1t), c2 = median(m.cpu_2t);
+        const double model2 = rows[1].renderer_order.ms();  // cores holds 1 and 2 first
+        std::snprintf(row, sizeof row,
+                      "| %s | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n",
+                      scene.name.c_str(), samples, one.ms(), c1, m1, model2, m2,
+                      m2 > 0 ? c2 / m2 : 0.0, model2 > 0 ? one.ms() / model2 : 0.0,
+                      m2 > 0 ? m1 / m2 : 0.0);
+        validation += row;
+
         // What limits it: one tile, the chunk count, or the stages that stay serial in time.
         std::string l = "- **" + what + "**: ";
         if (tile_bound > 0 && tile_bound <= cores.back())
@@ -539,18 +593,20 @@ int main(int argc, char** argv) {
                fmt("%.3f", tiles.largest) + " of " + fmt("%.2f", tiles.total) +
                " ms of tile work) from " + std::to_string(tile_bound) + " cores on; ";
         else
-          l += "no tile bounds the frame up to " + std::to_string(cores.back()) + " cores; ";
-        l += "the front end has " + std::to_string(m.chunks.size()) + " chunk" +
-             (m.chunks.size() == 1 ? "" : "s") + " of up to 2048 triangles";
-        if (setup_bound > 0)
-          l += ", the largest bounds setup from " + std::to_string(setup_bound) + " cores on";
+          l += "no single tile bounds the frame up to " + std::to_string(cores.back()) +
+               " cores (the largest is " + fmt("%.1f", 100.0 * tiles.largest / tiles.total) +
+               "% of the tile work); ";
+        if (m.chunks.size() == 1)
+          l += "the front end is one chunk (up to 2048 triangles), so it runs on one core";
+        else
+          l += "the front end has " + std::to_string(m.chunks.size()) +
+               " chunks of up to 2048 triangles, and setup stops scaling at " +
+               std::to_string(setup_bound) + " cores (its largest chunk)";
         const FrameModel& top = rows.back().renderer_order;
         l += "; at " + std::to_string(rows.back().cores) + " cores the model spends " +
              fmt("%.3f", top.setup.ms) + " ms in setup, " + fmt("%.3f", top.binning.ms) +
-             " in binning, " + fmt("%.3f", top.tiles.ms) + " in tiles (speed-up ×" +
-             fmt("%.1f", top.ms() > 0 ? one.ms() / top.ms() : 0) + "); the real 1-thread frame is " +
-             fmt("%.2f", m1) + " ms, " + fmt("%.2f", m1 - one.ms()) +
-             " ms more than the costs add up to (work outside them).\n";
+             " in binning and " + fmt("%.3f", top.tiles.ms) + " in tiles (×" +
+             fmt("%.1f", top.ms() > 0 ? one.ms() / top.ms() : 0) + ").\n";
         limits += l;
 
         json jc;
@@ -564,15 +620,18 @@ int main(int argc, char** argv) {
         jc["measured_2t_ms"] = m2;
         jc["frames_1t_ms"] = m.frames_1t;
         jc["frames_2t_ms"] = m.frames_2t;
+        jc["measured_1t_cpu_ms"] = c1;
+        jc["measured_2t_cpu_ms"] = c2;
+        jc["frames_1t_cpu_ms"] = m.cpu_1t;
+        jc["frames_2t_cpu_ms"] = m.cpu_2t;
         jc["tile_bound_from_cores"] = tile_bound;
         jc["setup_bound_from_cores"] = setup_bound;
-        jc["largest_tile"] = {{"x0", hot.x0}, {"y0", hot.y0}, {"triangles", hot.triangles},
-                              {"ms", tiles.largest}};
+        jc["largest_tile"] = {
+            {"x0", hot.x0}, {"y0", hot.y0}, {"triangles", hot.triangles}, {"ms", tiles.largest}};
         jc["chunks"] = json::array();
         for (const mosaic::ChunkCost& k : m.chunks)
-          jc["chunks"].push_back({{"triangles", k.triangles},
-                                  {"ms_setup", k.ms_setup},
-                                  {"ms_binning", k.ms_binning}});
+          jc["chunks"].push_back(
+              {{"triangles", k.triangles}, {"ms_setup", k.ms_setup}, {"ms_binning", k.ms_binning}});
         jc["tiles"] = json::array();
         for (const mosaic::TileCost& t : m.tiles)
           jc["tiles"].push_back({{"x0", t.x0},
@@ -593,13 +652,19 @@ int main(int argc, char** argv) {
     out["tile_size"] = tile_size;
 
     std::printf(
-        "mosaic-scaling: tile size %d, %s, %dx%d. Costs: median of %d frames on 1 thread (costs "
-        "on) after %d warm-up; real frames: median of %d, 1 and 2 threads alternating, costs "
-        "off.\n\n",
-        tile_size, mosaic::to_string(probe.isa()), width, height, set.frames, set.warmup,
-        set.frames);
-    std::printf("Work per frame (ms on 1 thread; a tile's cost is clear, rasterize, resolve):\n\n%s",
-                work.c_str());
+        "mosaic-scaling: tile size %d, %s, %dx%d; load average %.2f at the start (%u hardware "
+        "threads). Costs: median of %d frames on 1 thread (costs on) after %d warm-up; real "
+        "frames: median of %d, 1 and 2 threads alternating, costs off.\n\n",
+        tile_size, mosaic::to_string(probe.isa()), width, height, load,
+        std::thread::hardware_concurrency(), set.frames, set.warmup, set.frames);
+    std::printf(
+        "Work per frame (ms on 1 thread; a tile's cost is clear, rasterize, resolve):\n\n%s",
+        work.c_str());
+    std::printf(
+        "\nThe model against the real frames (CPU ms: the thread's CPU time; wall above it is "
+        "time spent waiting for a core on a shared machine; CPU / wall near 2 means both cores "
+        "were free):\n\n%s",
+        validation.c_str());
     std::printf(
         "\nModelled frame on P cores, tiles in the renderer's order (busiest first by triangle "
         "count): ms (× speed-up over the modelled 1 core); **bold** where one tile bounds the "
