@@ -15,12 +15,14 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -99,6 +101,9 @@ glm::dmat4 framing_camera(const glm::dvec3& centre, double radius, int width, in
   return proj * view;
 }
 
+/// Largest face index magnitude: what tinyobjloader's int holds.
+constexpr std::int64_t kMaxFaceIndex = std::numeric_limits<int>::max();
+
 std::uint8_t to_channel(double v01) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(v01, 0.0, 1.0) * kChannelMax));
 }
@@ -121,7 +126,18 @@ std::vector<std::size_t> scan_obj(const std::string& text, const std::string& fi
     if (!(words >> kw)) continue;
     if (kw == "f") {
       int count = 0;
-      for (std::string w; words >> w;) ++count;
+      for (std::string w; words >> w;) {
+        // tinyobjloader converts an index with atoi, whose overflow is undefined: an index past
+        // int's range could come back as an existing vertex. Refuse it here, naming the line.
+        const std::string_view index = std::string_view(w).substr(0, w.find('/'));
+        std::int64_t v = 0;
+        const auto [end, ec] = std::from_chars(index.data(), index.data() + index.size(), v);
+        if (ec != std::errc() || end != index.data() + index.size() || v == 0 ||
+            v > kMaxFaceIndex || v < -kMaxFaceIndex)
+          throw Error(Errc::kParse, file + ":" + std::to_string(n) + ": face vertex '" + w +
+                                        "' is not a vertex index");
+        ++count;
+      }
       if (count >= 3) lines.push_back(n);
     } else if (kw == "v") {
       int count = 0;
