@@ -1,0 +1,41 @@
+#!/bin/sh
+# .ci/fuzz.sh — builds the libFuzzer targets (tests/fuzz) with clang-14 under AddressSanitizer and
+# UndefinedBehaviorSanitizer, then runs each for a bounded time on its kept corpus.
+#
+# Takes: the environment MOSAIC_FUZZ_SECONDS (per fuzzer, default 60), MOSAIC_FUZZ_BUILD (build
+# directory, default build/fuzz) and MOSAIC_JOBS (default 2). Gives: exit status 0 when no fuzzer
+# found anything; otherwise 1, with the crashing input saved as <build>/<fuzzer>-crash-* (turn it
+# into a regression test, and add it to tests/fuzz/corpus/<fuzzer>/).
+# The kept corpus is read, never written: new inputs go to a scratch directory that is removed.
+set -eu
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${MOSAIC_FUZZ_BUILD:-$root/build/fuzz}
+seconds=${MOSAIC_FUZZ_SECONDS:-60}
+jobs=${MOSAIC_JOBS:-2}
+
+start=$(date +%s)
+CXX=clang++-14 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DMOSAIC_FUZZ=ON -DMOSAIC_BUILD_TESTS=OFF -DMOSAIC_BUILD_BENCH=OFF \
+  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
+  >/dev/null
+cmake --build "$build" -j "$jobs" --target fuzz_scene_parsers fuzz_pipeline
+echo "fuzz.sh: build took $(($(date +%s) - start)) s"
+
+status=0
+for fuzzer in fuzz_scene_parsers fuzz_pipeline; do
+  scratch=$(mktemp -d)
+  t0=$(date +%s)
+  # -timeout: one input taking 10 s is a hang; -rss_limit_mb: a leak or a blow-up is a finding.
+  if ! "$build/tests/fuzz/$fuzzer" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+      -print_final_stats=1 -artifact_prefix="$build/$fuzzer-" \
+      "$scratch" "$root/tests/fuzz/corpus/$fuzzer" 2>"$build/$fuzzer.log"; then
+    tail -n 40 "$build/$fuzzer.log"
+    echo "fuzz.sh: $fuzzer FAILED; the input is in $build/$fuzzer-*"
+    status=1
+  fi
+  grep -E "^stat::number_of_executed_units|^stat::new_units_added" "$build/$fuzzer.log" | tr '\n' ' '
+  echo "fuzz.sh: $fuzzer ran $(($(date +%s) - t0)) s"
+  rm -rf "$scratch"
+done
+echo "fuzz.sh: total $(($(date +%s) - start)) s"
+exit $status

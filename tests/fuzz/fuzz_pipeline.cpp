@@ -1,0 +1,160 @@
+// tests/fuzz/fuzz_pipeline.cpp — libFuzzer target for the whole pipeline on raw vertex bits.
+//
+// Takes: arbitrary bytes: a 8-byte header (target size 1..64 × 1..64, sample count, space,
+// depth test, culling, fill rule, colour source, index mode) followed by vertices as raw float32
+// bits x y z w (NaN, Inf, denormals and 1e38 included) and, with indices, raw index bytes (some
+// out of range, many repeated). Gives: nothing, or a crash report. The frame must be either
+// rejected by validate() — and then render() throws the same error and leaves the target alone —
+// or rendered identically (every sample's colour and depth bit for bit, and the counters) on the
+// reference and on every SIMD path this CPU runs; every written depth lies in [0, 1].
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mosaic/mosaic.hpp"
+
+namespace {
+
+/// Largest target edge: small frames keep each input to well under a millisecond.
+constexpr int kMaxEdge = 64;
+/// Bytes of the header before the vertex data.
+constexpr std::size_t kHeaderBytes = 8;
+/// Bytes per vertex: four float32.
+constexpr std::size_t kVertexBytes = 16;
+/// At most this many vertices are read (more adds time, not coverage).
+constexpr std::size_t kMaxVertices = 96;
+
+[[noreturn]] void bug(const std::string& what) {
+  std::fprintf(stderr, "fuzz_pipeline: %s\n", what.c_str());
+  std::abort();
+}
+
+struct Result {
+  std::vector<mosaic::Rgba8> color, sample_color;
+  std::vector<float> sample_depth;
+  mosaic::FrameStats stats;
+};
+
+mosaic::Renderer& renderer(mosaic::Isa isa) {
+  static std::vector<std::pair<mosaic::Isa, std::unique_ptr<mosaic::Renderer>>> cache;
+  for (auto& [i, r] : cache)
+    if (i == isa) return *r;
+  const int threads = isa == mosaic::Isa::kReference ? 1 : 2;
+  cache.emplace_back(isa,
+                     std::make_unique<mosaic::Renderer>(mosaic::RendererOptions{threads, isa}));
+  return *cache.back().second;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < kHeaderBytes) return 0;
+  static constexpr int kSamples[] = {1, 4, 8, 16};
+  const int width = 1 + data[0] % kMaxEdge, height = 1 + data[1] % kMaxEdge;
+  const int samples = kSamples[data[2] % 4];
+  mosaic::Draw draw;
+  draw.space = (data[3] & 1) ? mosaic::Space::kScreen : mosaic::Space::kClip;
+  draw.state.depth_test = static_cast<mosaic::DepthTest>((data[3] >> 1) % 5);
+  draw.state.depth_write = (data[3] & 0x10) == 0;
+  draw.state.cull = static_cast<mosaic::CullMode>(data[4] % 3);
+  draw.state.front_face =
+      (data[4] & 4) ? mosaic::FrontFace::kClockwise : mosaic::FrontFace::kCounterClockwise;
+  draw.state.fill_rule = (data[4] & 8) ? mosaic::FillRule::kOpenGL : mosaic::FillRule::kD3D;
+  draw.color_source = static_cast<mosaic::ColorSource>(data[5] % 3);
+  const bool indexed = (data[5] & 4) != 0;
+  const bool ssaa = (data[5] & 8) != 0;
+  const float clear_depth = (data[6] & 1) ? 0.0f : 1.0f;
+  const std::size_t index_count = data[7];
+
+  std::vector<glm::vec4> positions;
+  std::size_t at = kHeaderBytes;
+  while (at + kVertexBytes <= size && positions.size() < kMaxVertices) {
+    glm::vec4 v;
+    std::memcpy(&v, data + at, kVertexBytes);
+    positions.push_back(v);
+    at += kVertexBytes;
+  }
+  std::vector<std::uint32_t> indices;
+  if (indexed) {
+    // Index bytes: mostly in range (mod vertex count + 1: the last value is out of range).
+    for (std::size_t k = 0; k < index_count && at < size; ++k, ++at)
+      indices.push_back(positions.empty() ? data[at] : data[at] % (positions.size() + 1));
+  } else {
+    positions.resize(positions.size() / 3 * 3);
+  }
+  std::vector<mosaic::Rgba8> colors;
+  const std::size_t tris = indexed ? indices.size() / 3 : positions.size() / 3;
+  const std::size_t ncolors =
+      draw.color_source == mosaic::ColorSource::kPerVertex ? positions.size() : tris;
+  for (std::size_t k = 0; k < ncolors; ++k)
+    colors.push_back({static_cast<std::uint8_t>(k * 37), static_cast<std::uint8_t>(k * 91),
+                      static_cast<std::uint8_t>(k), 255});
+  draw.positions = positions;
+  draw.indices = indices;
+  draw.colors = colors;
+  mosaic::Frame frame;
+  frame.draws = std::span<const mosaic::Draw>(&draw, 1);
+  frame.ssaa = ssaa;
+
+  auto run = [&](mosaic::Isa isa, bool& rejected, mosaic::Errc& code) {
+    mosaic::RenderTarget target(width, height, samples, mosaic::TargetOptions{true, true});
+    target.set_clear({1, 2, 3, 4}, clear_depth);
+    const std::vector<mosaic::Rgba8> before(target.color().begin(), target.color().end());
+    Result r;
+    rejected = false;
+    try {
+      r.stats = renderer(isa).render(frame, target);
+    } catch (const mosaic::Error& e) {
+      rejected = true;
+      code = e.code();
+      if (!std::equal(before.begin(), before.end(), target.color().begin()))
+        bug("a rejected frame touched the target");
+    }
+    r.color.assign(target.color().begin(), target.color().end());
+    r.sample_color.assign(target.sample_color().begin(), target.sample_color().end());
+    r.sample_depth.assign(target.sample_depth().begin(), target.sample_depth().end());
+    return r;
+  };
+
+  bool expect_reject = false;
+  mosaic::Errc expect_code{};
+  try {
+    mosaic::validate(frame, mosaic::RenderTarget(width, height, samples));
+  } catch (const mosaic::Error& e) {
+    expect_reject = true;
+    expect_code = e.code();
+  }
+  try {
+    bool rejected = false;
+    mosaic::Errc code{};
+    const Result ref = run(mosaic::Isa::kReference, rejected, code);
+    if (rejected != expect_reject || (rejected && code != expect_code))
+      bug("render() and validate() disagree");
+    if (rejected) return 0;
+    for (float d : ref.sample_depth)
+      if (!(d >= 0.0f && d <= 1.0f)) bug("a depth outside [0, 1]");
+    for (mosaic::Isa isa : mosaic::available_isas()) {
+      if (isa == mosaic::Isa::kReference) continue;
+      const Result fast = run(isa, rejected, code);
+      if (rejected) bug("the fast path rejected what the reference drew");
+      if (fast.sample_color != ref.sample_color || fast.color != ref.color ||
+          std::memcmp(fast.sample_depth.data(), ref.sample_depth.data(),
+                      ref.sample_depth.size() * sizeof(float)) != 0)
+        bug(std::string("samples differ on ") + mosaic::to_string(isa));
+      if (fast.stats.samples_written != ref.stats.samples_written ||
+          fast.stats.triangles_drawn != ref.stats.triangles_drawn ||
+          fast.stats.triangles_nonfinite != ref.stats.triangles_nonfinite)
+        bug(std::string("counters differ on ") + mosaic::to_string(isa));
+    }
+  } catch (const std::exception& e) {
+    bug(std::string("unexpected exception: ") + e.what());
+  }
+  return 0;
+}
