@@ -139,11 +139,12 @@ void expect_same(const Result& ref, const Result& fast, const std::string& what)
   ASSERT_EQ(ref.stats.samples_written, fast.stats.samples_written) << what;
   ASSERT_EQ(ref.stats.triangles_drawn, fast.stats.triangles_drawn) << what;
   ASSERT_EQ(ref.sample_depth.size(), fast.sample_depth.size()) << what;
+  ASSERT_EQ(ref.sample_color.size(), fast.sample_color.size()) << what;
   std::size_t bad_depth = 0, bad_color = 0, bad_pixel = 0;
-  for (std::size_t i = 0; i < ref.sample_depth.size(); ++i) {
+  for (std::size_t i = 0; i < ref.sample_depth.size(); ++i)
     if (std::memcmp(&ref.sample_depth[i], &fast.sample_depth[i], sizeof(float)) != 0) ++bad_depth;
+  for (std::size_t i = 0; i < ref.sample_color.size(); ++i)
     if (!(ref.sample_color[i] == fast.sample_color[i])) ++bad_color;
-  }
   for (std::size_t i = 0; i < ref.color.size(); ++i)
     if (!(ref.color[i] == fast.color[i])) ++bad_pixel;
   EXPECT_EQ(bad_depth, 0u) << what;
@@ -268,3 +269,208 @@ TEST(FastPath, RecordedCostsCoverEveryTileAndChunkAndLeaveTheImageAlone) {
 }
 
 }  // namespace
+
+// --- What a frame uses: depth-only draws and frames, frames without depth, hierarchical z ---
+
+namespace {
+
+/// One frame of several draws of `sc`'s triangles (draw i takes every draws-th triangle, so
+/// that the draws interleave in space), each with its own state.
+struct MultiResult {
+  Result r;
+  std::vector<float> hiz_min, hiz_max;
+};
+
+MultiResult render_draws(const TestScene& sc, int w, int h, int samples, Isa isa,
+                         std::span<const mosaic::DrawState> states, mosaic::TargetOptions keep,
+                         bool ssaa, mosaic::Rgba8 clear = {10, 20, 30, 255},
+                         float clear_depth = 1.0f, mosaic::RenderTarget* reuse = nullptr) {
+  const std::size_t n = states.size();
+  std::vector<std::vector<std::uint32_t>> indices(n);
+  const std::size_t tris = sc.positions.size() / 3;
+  for (std::size_t t = 0; t < tris; ++t)
+    for (std::uint32_t k = 0; k < 3; ++k)
+      indices[t % n].push_back(static_cast<std::uint32_t>(3 * t) + k);
+  // Per-vertex colours are shared by the indexed draws; per-triangle ones are not, so a
+  // per-triangle scene is drawn with the first triangle colour of each draw, constant.
+  std::vector<mosaic::Draw> draws(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    mosaic::Draw& d = draws[i];
+    d.space = sc.space;
+    d.positions = sc.positions;
+    d.indices = indices[i];
+    if (sc.source == mosaic::ColorSource::kPerVertex) {
+      d.color_source = mosaic::ColorSource::kPerVertex;
+      d.colors = sc.colors;
+    } else {
+      d.color_source = mosaic::ColorSource::kConstant;
+      d.color = sc.colors[i % sc.colors.size()];
+    }
+    d.state = states[i];
+  }
+  mosaic::RenderTarget own(w, h, samples, keep);
+  mosaic::RenderTarget& target = reuse ? *reuse : own;
+  target.set_clear(clear, clear_depth);
+  mosaic::Frame frame;
+  frame.draws = draws;
+  frame.ssaa = ssaa;
+  frame.keep_hierarchical_z = true;
+  mosaic::Renderer r({2, isa});
+  MultiResult out;
+  out.r.stats = r.render(frame, target);
+  out.r.color.assign(target.color().begin(), target.color().end());
+  out.r.sample_color.assign(target.sample_color().begin(), target.sample_color().end());
+  out.r.sample_depth.assign(target.sample_depth().begin(), target.sample_depth().end());
+  const mosaic::HierarchicalZ& hz = r.hierarchical_z();
+  EXPECT_EQ(hz.width(), w);
+  EXPECT_EQ(hz.height(), h);
+  out.hiz_min.assign(hz.zmin().begin(), hz.zmin().end());
+  out.hiz_max.assign(hz.zmax().begin(), hz.zmax().end());
+  return out;
+}
+
+/// The same comparison as expect_same, plus the hierarchical z (compared as values: the bounds
+/// are a min and a max of the same floats, and -0 may stand for +0).
+void expect_same_multi(const MultiResult& ref, const MultiResult& fast, const std::string& what) {
+  expect_same(ref.r, fast.r, what);
+  ASSERT_EQ(ref.hiz_min.size(), fast.hiz_min.size()) << what;
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < ref.hiz_min.size(); ++i)
+    bad += !(ref.hiz_min[i] == fast.hiz_min[i]) + !(ref.hiz_max[i] == fast.hiz_max[i]);
+  EXPECT_EQ(bad, 0u) << what << ": hierarchical z";
+}
+
+}  // namespace
+
+TEST(FastPath, DepthOnlyDrawsAmongColourDrawsMatchReference) {
+  // Depth-only draws (every depth mode) interleaved with colour draws: the depth-only ones must
+  // change depth exactly as the reference does and leave colour alone.
+  const int w = 157, h = 131;
+  const mosaic::DepthTest tests[] = {mosaic::DepthTest::kLess, mosaic::DepthTest::kLessEqual,
+                                     mosaic::DepthTest::kGreater, mosaic::DepthTest::kGreaterEqual,
+                                     mosaic::DepthTest::kAlways};
+  std::uint64_t seed = 300;
+  for (auto test : tests) {
+    for (int samples : {1, 4, 16}) {
+      for (bool ssaa : {false, true}) {
+        const bool per_vertex = (seed & 1) != 0;
+        const TestScene sc = make_scene(Shape::kSmall, w, h, 500, seed++, per_vertex);
+        std::vector<mosaic::DrawState> states(3);
+        for (std::size_t i = 0; i < states.size(); ++i) {
+          states[i].depth_test = test;
+          states[i].depth_write = i != 2;
+          states[i].color_write = i != 1;
+        }
+        const float cd = test == mosaic::DepthTest::kGreater ||
+                                 test == mosaic::DepthTest::kGreaterEqual
+                             ? 0.f
+                             : 1.f;
+        const MultiResult ref = render_draws(sc, w, h, samples, Isa::kReference, states,
+                                             {true, true}, ssaa, {10, 20, 30, 255}, cd);
+        for (Isa isa : simd_isas())
+          expect_same_multi(ref,
+                            render_draws(sc, w, h, samples, isa, states, {true, true}, ssaa,
+                                         {10, 20, 30, 255}, cd),
+                            "mixed depth-only test " + std::to_string(int(test)) + " " +
+                                std::to_string(samples) + "x ssaa " + std::to_string(ssaa) +
+                                " " + mosaic::to_string(isa));
+      }
+    }
+  }
+}
+
+TEST(FastPath, DepthOnlyFrameKeepsNoColourAndMatchesReference) {
+  // Every draw depth-only and no sample colour kept: the tiles keep no colour at all. The image
+  // must still be the clear colour (as the reference's box filter of untouched samples), depth
+  // and the hierarchical z exact, including after a colour frame into the same target.
+  const int w = 157, h = 131;
+  std::uint64_t seed = 400;
+  for (int samples : {1, 4, 8}) {
+    for (Shape shape : {Shape::kSmall, Shape::kLarge, Shape::kClipSpace}) {
+      const TestScene sc = make_scene(shape, w, h, shape == Shape::kLarge ? 20 : 300, seed++,
+                                      true);
+      std::vector<mosaic::DrawState> states(2);
+      states[0].color_write = states[1].color_write = false;
+      states[1].depth_test = mosaic::DepthTest::kLessEqual;
+      const mosaic::TargetOptions depth_only{true, false};
+      const MultiResult ref =
+          render_draws(sc, w, h, samples, Isa::kReference, states, depth_only, false);
+      for (const mosaic::Rgba8& c : ref.r.color) ASSERT_EQ(c, (mosaic::Rgba8{10, 20, 30, 255}));
+      for (Isa isa : simd_isas()) {
+        const std::string what = "depth-only frame " + std::to_string(samples) + "x " +
+                                 mosaic::to_string(isa);
+        expect_same_multi(ref, render_draws(sc, w, h, samples, isa, states, depth_only, false),
+                          what);
+        // A colour frame, then the depth-only frame into the same target with another clear
+        // colour, then once more with that colour (the image is already right: no rewrite).
+        mosaic::RenderTarget target(w, h, samples, depth_only);
+        const std::vector<mosaic::DrawState> colour(2);
+        render_draws(sc, w, h, samples, isa, colour, depth_only, false, {10, 20, 30, 255}, 1.f,
+                     &target);
+        for (int pass = 0; pass < 2; ++pass) {
+          const MultiResult again = render_draws(sc, w, h, samples, isa, states, depth_only,
+                                                 false, {1, 2, 3, 4}, 1.f, &target);
+          std::size_t bad = 0;
+          for (const mosaic::Rgba8& c : again.r.color) bad += !(c == mosaic::Rgba8{1, 2, 3, 4});
+          EXPECT_EQ(bad, 0u) << what << " after a colour frame, pass " << pass;
+          EXPECT_EQ(again.r.sample_depth, ref.r.sample_depth) << what;
+        }
+      }
+    }
+  }
+}
+
+TEST(FastPath, FrameWithoutDepthMatchesReference) {
+  // No draw tests or writes depth (kAlways without writes, and the painter's algorithm): the tile
+  // keeps no depth; kept sample depth and the hierarchical z hold the clear depth.
+  const int w = 157, h = 131;
+  const TestScene sc = make_scene(Shape::kSmall, w, h, 400, 500, true);
+  std::vector<mosaic::DrawState> states(2);
+  for (mosaic::DrawState& s : states) {
+    s.depth_test = mosaic::DepthTest::kAlways;
+    s.depth_write = false;
+  }
+  for (int samples : {1, 4}) {
+    const MultiResult ref =
+        render_draws(sc, w, h, samples, Isa::kReference, states, {true, true}, false);
+    for (float z : ref.r.sample_depth) ASSERT_EQ(z, 1.0f);
+    for (Isa isa : simd_isas())
+      expect_same_multi(ref, render_draws(sc, w, h, samples, isa, states, {true, true}, false),
+                        "no depth " + std::to_string(samples) + "x " + mosaic::to_string(isa));
+  }
+}
+
+TEST(FastPath, HierarchicalZIsExactOnEveryPathAndEmptyWhenNotAsked) {
+  const int w = 157, h = 131;  // partial blocks on the right and at the bottom
+  for (Shape shape : {Shape::kSmall, Shape::kLarge, Shape::kHuge}) {
+    const TestScene sc = make_scene(shape, w, h, shape == Shape::kSmall ? 800 : 15, 600, false);
+    const std::vector<mosaic::DrawState> states(1);
+    for (int samples : {1, 4, 16}) {
+      const MultiResult ref =
+          render_draws(sc, w, h, samples, Isa::kReference, states, {true, false}, false);
+      // The reference's bounds, checked against its own samples: every sample inside them,
+      // and each bound reached by some sample of its block.
+      const int bw = (w + 7) / 8;
+      ASSERT_EQ(ref.hiz_min.size(), static_cast<std::size_t>(bw * ((h + 7) / 8)));
+      std::vector<int> reached(ref.hiz_min.size(), 0);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          for (int s = 0; s < samples; ++s) {
+            const float z = ref.r.sample_depth[(static_cast<std::size_t>(y) * w + x) * samples + s];
+            const std::size_t b = static_cast<std::size_t>(y / 8) * bw + x / 8;
+            ASSERT_GE(z, ref.hiz_min[b]);
+            ASSERT_LE(z, ref.hiz_max[b]);
+            reached[b] |= (z == ref.hiz_min[b] ? 1 : 0) | (z == ref.hiz_max[b] ? 2 : 0);
+          }
+      for (int r : reached) ASSERT_EQ(r, 3);
+      for (Isa isa : simd_isas())
+        expect_same_multi(ref,
+                          render_draws(sc, w, h, samples, isa, states, {true, false}, false),
+                          "hi-z " + std::to_string(samples) + "x " + mosaic::to_string(isa));
+    }
+  }
+  mosaic::RenderTarget target(16, 16);
+  mosaic::Renderer r({1});
+  r.render({}, target);
+  EXPECT_TRUE(r.hierarchical_z().empty());
+}

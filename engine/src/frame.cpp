@@ -19,50 +19,54 @@
 #include <tbb/task_arena.h>
 
 #include "front/front_end.hpp"
+#include "frame_checks.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/renderer.hpp"
 #include "bin/binner.hpp"
+#include "raster/hiz.hpp"
 #include "raster/tile.hpp"
 #include "reference/reference.hpp"
 #include "simd/dispatch.hpp"
 
 namespace mosaic {
 
-void validate(const Frame& frame, const RenderTarget& /*target*/) {
-  for (std::size_t d = 0; d < frame.draws.size(); ++d) {
-    const Draw& draw = frame.draws[d];
-    const std::string where = "draw " + std::to_string(d) + ": ";
-    const bool xyz = !draw.positions_xyz.empty();
-    const std::size_t vertices = xyz ? draw.positions_xyz.size() : draw.positions.size();
-    if (xyz && !draw.positions.empty())
-      throw Error(Errc::kInvalidDraw, where + "give positions or positions_xyz, not both");
-    if (vertices > 0xffffffffu)
-      throw Error(Errc::kInvalidDraw, where + "more than 2^32-1 vertices");
-    if (!draw.indices.empty()) {
-      if (draw.indices.size() % 3 != 0)
-        throw Error(Errc::kInvalidDraw, where + "index count " +
-                                            std::to_string(draw.indices.size()) +
-                                            " is not a multiple of 3");
-      for (std::size_t i = 0; i < draw.indices.size(); ++i) {
-        if (draw.indices[i] >= vertices)
-          throw Error(Errc::kIndexOutOfRange,
-                      where + "index " + std::to_string(draw.indices[i]) + " at position " +
-                          std::to_string(i) + " is out of range (" + std::to_string(vertices) +
-                          " vertices)");
-      }
-    } else if (vertices % 3 != 0) {
-      throw Error(Errc::kInvalidDraw, where + "vertex count " + std::to_string(vertices) +
-                                          " is not a multiple of 3 and there is no index buffer");
+namespace detail {
+
+void validate_draw(const Draw& draw, std::size_t d) {
+  const std::string where = "draw " + std::to_string(d) + ": ";
+  const bool xyz = !draw.positions_xyz.empty();
+  const std::size_t vertices = xyz ? draw.positions_xyz.size() : draw.positions.size();
+  if (xyz && !draw.positions.empty())
+    throw Error(Errc::kInvalidDraw, where + "give positions or positions_xyz, not both");
+  if (vertices > 0xffffffffu) throw Error(Errc::kInvalidDraw, where + "more than 2^32-1 vertices");
+  if (!draw.indices.empty()) {
+    if (draw.indices.size() % 3 != 0)
+      throw Error(Errc::kInvalidDraw, where + "index count " + std::to_string(draw.indices.size()) +
+                                          " is not a multiple of 3");
+    for (std::size_t i = 0; i < draw.indices.size(); ++i) {
+      if (draw.indices[i] >= vertices)
+        throw Error(Errc::kIndexOutOfRange, where + "index " + std::to_string(draw.indices[i]) +
+                                                " at position " + std::to_string(i) +
+                                                " is out of range (" + std::to_string(vertices) +
+                                                " vertices)");
     }
-    const std::size_t tris = front::triangle_count(draw);
-    if (draw.color_source == ColorSource::kPerTriangle && draw.colors.size() != tris)
-      throw Error(Errc::kInvalidDraw, where + std::to_string(draw.colors.size()) +
-                                          " colours for " + std::to_string(tris) + " triangles");
-    if (draw.color_source == ColorSource::kPerVertex && draw.colors.size() != vertices)
-      throw Error(Errc::kInvalidDraw, where + std::to_string(draw.colors.size()) +
-                                          " colours for " + std::to_string(vertices) +
-                                          " vertices");
+  } else if (vertices % 3 != 0) {
+    throw Error(Errc::kInvalidDraw, where + "vertex count " + std::to_string(vertices) +
+                                        " is not a multiple of 3 and there is no index buffer");
   }
+  const std::size_t tris = front::triangle_count(draw);
+  if (draw.color_source == ColorSource::kPerTriangle && draw.colors.size() != tris)
+    throw Error(Errc::kInvalidDraw, where + std::to_string(draw.colors.size()) + " colours for " +
+                                        std::to_string(tris) + " triangles");
+  if (draw.color_source == ColorSource::kPerVertex && draw.colors.size() != vertices)
+    throw Error(Errc::kInvalidDraw, where + std::to_string(draw.colors.size()) + " colours for " +
+                                        std::to_string(vertices) + " vertices");
+}
+
+}  // namespace detail
+
+void validate(const Frame& frame, const RenderTarget& /*target*/) {
+  for (std::size_t d = 0; d < frame.draws.size(); ++d) detail::validate_draw(frame.draws[d], d);
 }
 
 std::vector<Isa> available_isas() {
@@ -103,8 +107,10 @@ struct Renderer::Impl {
   std::vector<std::pair<std::uint64_t, int>> tile_order;
   tbb::enumerable_thread_specific<raster::TileScratch> scratch;
   tbb::enumerable_thread_specific<std::vector<raster::BinRun>> runs;
+  HierarchicalZ hiz;  // the last frame's, when it asked for it
 
   FrameStats render_fast(const Frame& frame, RenderTarget& target);
+  FrameStats render_reference(const Frame& frame, RenderTarget& target);
 };
 
 Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
@@ -147,8 +153,24 @@ int Renderer::threads() const noexcept { return impl_->isa == Isa::kReference ? 
 
 FrameStats Renderer::render(const Frame& frame, RenderTarget& target) {
   validate(frame, target);
-  if (impl_->isa == Isa::kReference) return reference::render(frame, target);
+  if (impl_->isa == Isa::kReference) return impl_->render_reference(frame, target);
   return impl_->render_fast(frame, target);
+}
+
+const HierarchicalZ& Renderer::hierarchical_z() const noexcept { return impl_->hiz; }
+
+FrameStats Renderer::Impl::render_reference(const Frame& frame, RenderTarget& target) {
+  if (!frame.keep_hierarchical_z) {
+    hiz.clear();
+    return reference::render(frame, target);
+  }
+  reference::SampleBuffers samples;
+  const FrameStats stats = reference::render(frame, target, &samples);
+  hiz.reset(target.width(), target.height());
+  raster::block_bounds_from_samples(samples.depth, target.width(), target.height(),
+                                    target.samples(), HierarchicalZ::kBlockSize,
+                                    hiz.zmin_storage(), hiz.zmax_storage());
+  return stats;
 }
 
 FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target) {
@@ -161,14 +183,19 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   const int W = target.width(), H = target.height(), S = target.samples();
   const bin::TileGrid grid(W, H);
 
-  // Draw state per draw; the painter's algorithm turns the depth test off everywhere.
+  // Draw state per draw; the painter's algorithm turns the depth test off everywhere. The
+  // buffers the frame uses: colour if a draw writes it (or the target keeps it per sample),
+  // depth if a draw tests or writes it.
   states.clear();
+  bool any_color = false, any_depth = false;
   for (const Draw& d : frame.draws) {
     DrawState s = d.state;
     if (frame.painter) {
       s.depth_test = DepthTest::kAlways;
       s.depth_write = false;
     }
+    any_color |= s.color_write;
+    any_depth |= s.depth_test != DepthTest::kAlways || s.depth_write;
     states.push_back(s);
   }
 
@@ -238,7 +265,23 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   tf.clear_depth = target.clear_depth();
   tf.width = W;
   tf.height = H;
-  tf.image = target.color_storage().data();
+  tf.keep_color = any_color || target.options().keep_sample_color;
+  tf.keep_depth = any_depth;
+  if (tf.keep_color) {
+    tf.image = target.color_storage().data();
+  } else if (!target.color_filled_with(tf.clear_color)) {
+    // A depth-only frame: its image is the clear colour, written once for as long as it stays.
+    std::vector<Rgba8>& image = target.color_storage();
+    std::fill(image.begin(), image.end(), tf.clear_color);
+    target.mark_color_filled(tf.clear_color);
+  }
+  if (frame.keep_hierarchical_z) {
+    hiz.reset(W, H);
+    tf.hiz_min = hiz.zmin_storage();
+    tf.hiz_max = hiz.zmax_storage();
+  } else {
+    hiz.clear();
+  }
   const std::size_t nsamples = static_cast<std::size_t>(W) * H * S;
   if (target.options().keep_sample_depth) {
     target.sample_depth_storage().resize(nsamples);

@@ -20,8 +20,13 @@ struct DrawState {
   /// Which samples a triangle may write: those where `incoming depth OP stored depth` holds.
   DepthTest depth_test = DepthTest::kLess;
   /// Whether samples that pass the depth test store the triangle's depth (colour is written
-  /// either way).
+  /// either way, unless color_write is off).
   bool depth_write = true;
+  /// Whether samples that pass the depth test store the triangle's colour. Off makes a depth-only
+  /// draw (an occluder pass): the fast path then runs a kernel that neither shades nor touches
+  /// colour memory, and a frame whose draws all have it off keeps no colour at all (see
+  /// RenderTarget::color() for what the image then holds).
+  bool color_write = true;
   CullMode cull = CullMode::kNone;                      ///< which facing triangles to discard
   FrontFace front_face = FrontFace::kCounterClockwise;  ///< the winding that faces the viewer
   FillRule fill_rule = FillRule::kD3D;                  ///< who owns samples exactly on an edge

@@ -4,6 +4,7 @@
 
 #include "mosaic/draw.hpp"
 #include "mosaic/errors.hpp"
+#include "mosaic/occlusion.hpp"
 #include "mosaic/render_target.hpp"
 #include "mosaic/renderer.hpp"
 #include "mosaic/scene.hpp"

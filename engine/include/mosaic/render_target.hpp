@@ -43,6 +43,9 @@ class RenderTarget {
   float clear_depth() const noexcept { return clear_depth_; }  ///< as set by set_clear()
 
   /// The resolved image, row-major, top row first: pixel (x, y) is color()[y * width() + x].
+  /// After a depth-only frame (every draw's DrawState::color_write off, no sample colour kept)
+  /// it holds the clear colour, as the box filter of untouched samples would; the renderer
+  /// writes it once and skips the write while the image already holds that colour.
   std::span<const Rgba8> color() const noexcept { return color_; }
   /// The resolved pixel (x, y); requires 0 <= x < width() and 0 <= y < height() (unchecked).
   Rgba8 pixel(int x, int y) const { return color_[static_cast<std::size_t>(y) * width_ + x]; }
@@ -57,7 +60,16 @@ class RenderTarget {
   std::uint64_t image_hash() const noexcept;
 
   /// Mutable access for the renderers (engine internals); not for applications.
-  std::vector<Rgba8>& color_storage() noexcept { return color_; }
+  std::vector<Rgba8>& color_storage() noexcept {
+    color_fill_known_ = false;  // the caller may write anything
+    return color_;
+  }
+  /// Engine internals: whether color() is known to hold nothing but `c`, and marking it so.
+  bool color_filled_with(Rgba8 c) const noexcept { return color_fill_known_ && color_fill_ == c; }
+  void mark_color_filled(Rgba8 c) noexcept {
+    color_fill_known_ = true;
+    color_fill_ = c;
+  }
   std::vector<float>& sample_depth_storage() noexcept { return sample_depth_; }
   std::vector<Rgba8>& sample_color_storage() noexcept { return sample_color_; }
 
@@ -69,6 +81,8 @@ class RenderTarget {
   std::vector<Rgba8> color_;
   std::vector<float> sample_depth_;
   std::vector<Rgba8> sample_color_;
+  bool color_fill_known_ = true;  ///< the constructor fills color_ with color_fill_
+  Rgba8 color_fill_{0, 0, 0, 255};
 };
 
 }  // namespace mosaic

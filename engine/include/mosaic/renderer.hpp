@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "mosaic/draw.hpp"
+#include "mosaic/occlusion.hpp"
 #include "mosaic/render_target.hpp"
 #include "mosaic/types.hpp"
 
@@ -26,6 +27,10 @@ struct Frame {
   /// back to front, sorted (stably) by the mean depth of their vertices. It exists to show what
   /// the z-buffer fixes: interpenetrating and cyclic triangles come out wrong.
   bool painter = false;
+  /// Keep the frame's hierarchical z (exact depth bounds of every 8×8-pixel block) for
+  /// occlusion queries, in Renderer::hierarchical_z(). Costs one pass over each tile's depth
+  /// while it is in cache; without it, no block bounds are written.
+  bool keep_hierarchical_z = false;
 };
 
 /// One screen tile's share of a frame (FrameStats::tile_costs).
@@ -55,7 +60,9 @@ struct FrameStats {
   std::uint64_t blocks_hiz_rejected = 0;    ///< blocks skipped by hierarchical z
   std::uint64_t blocks_hiz_accepted = 0;    ///< blocks where hierarchical z skipped the depth test
   std::uint64_t samples_tested = 0;         ///< covered samples that reached the depth test
-  std::uint64_t samples_written = 0;        ///< colour writes to samples, over all triangles
+  /// Samples that passed the depth test, over all triangles: their colour was written, unless
+  /// the draw's DrawState::color_write was off (and their depth, if depth_write was on).
+  std::uint64_t samples_written = 0;
   /// Wall-clock milliseconds of each stage and of the whole frame. ms_resolve alone is summed
   /// over the workers (the resolve runs inside each tile's task), so it is thread time.
   double ms_setup = 0, ms_binning = 0, ms_raster = 0, ms_resolve = 0, ms_total = 0;
@@ -100,6 +107,11 @@ class Renderer {
   /// Renders one frame: clear, draws, resolve. Validates every draw first and throws
   /// Error{kIndexOutOfRange} or Error{kInvalidDraw} without touching the target.
   FrameStats render(const Frame& frame, RenderTarget& target);
+
+  /// The hierarchical z of the last frame rendered with Frame::keep_hierarchical_z; empty if the
+  /// last frame did not keep one (its queries then answer "visible"). Valid until the next
+  /// render().
+  const HierarchicalZ& hierarchical_z() const noexcept;
 
   /// The path render() uses (never kAuto).
   Isa isa() const noexcept;

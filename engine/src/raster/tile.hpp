@@ -50,6 +50,14 @@ struct TileFrame {
   Rgba8* image = nullptr;          ///< resolved output, row-major, width × height
   float* sample_depth = nullptr;   ///< optional per-sample output ((y*W+x)*S+s)
   Rgba8* sample_color = nullptr;   ///< optional per-sample output
+  /// The buffers the frame uses. Without colour (every draw depth-only, no sample colour kept)
+  /// the tile neither clears nor resolves colour and `image` is left alone; without depth (no
+  /// draw tests or writes it) the tile never clears it, and the depth outputs get clear_depth.
+  bool keep_color = true, keep_depth = true;
+  /// Optional hierarchical-z output: exact min / max depth of every 8×8 block of the image,
+  /// ceil(width / 8) per row (Renderer::hierarchical_z()).
+  float* hiz_min = nullptr;
+  float* hiz_max = nullptr;
 };
 
 /// Counters one worker accumulates over its tiles.

@@ -26,6 +26,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "raster/hiz.hpp"
 #include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
 #include "simd/mask.hpp"
@@ -80,34 +81,6 @@ struct TileKernelImpl {
     return r | (g << 8) | (b << 16) | (a << 24);
   }
 
-
-  // A triangle's depth over one block, bounding every per-sample depth the kernel computes there.
-  // Samples of the block at (px0, py0) lie in [px0, px0 + 8) × [py0, py0 + 8), so the plane's
-  // extremes over that square, evaluated in double, bound the exact plane; the float evaluation
-  // of a sample (two products and two sums, then the clamp) errs by at most 2u·mag to first
-  // order, where u = 2^-24 and mag = |base| + |ddx·dx| + |ddy·dy|. kMarginScale = 2^-21 = 8u
-  // covers that and the final rounding to float with room to spare. Clamping is monotone, so the
-  // clamped range bounds the clamped samples.
-  struct BlockDepthRange {
-    static constexpr double kMarginScale = 1.0 / (1 << 21);
-    double base, ddx, ddy, x0, y0;
-    explicit BlockDepthRange(const front::TriangleSetup& t)
-        : base(t.z.base), ddx(t.z.ddx), ddy(t.z.ddy), x0(t.x0), y0(t.y0) {}
-    /// The clamped depth range over the pixels [px0, px0 + w) × [py0, py0 + h).
-    std::pair<float, float> over(int px0, int py0, int w, int h, float lo, float hi) const {
-      const double dx = px0 - x0, dy = py0 - y0, ew = w, eh = h;
-      const double corner = base + ddx * dx + ddy * dy;
-      const double mag = std::abs(base) + std::abs(ddx) * std::max(std::abs(dx), std::abs(dx + ew)) +
-                         std::abs(ddy) * std::max(std::abs(dy), std::abs(dy + eh));
-      const double margin = mag * kMarginScale;
-      const double ex_lo = std::min(0.0, ddx * ew) + std::min(0.0, ddy * eh);
-      const double ex_hi = std::max(0.0, ddx * ew) + std::max(0.0, ddy * eh);
-      const float zl = static_cast<float>(corner + ex_lo - margin);
-      const float zh = static_cast<float>(corner + ex_hi + margin);
-      return {std::clamp(zl, lo, hi), std::clamp(zh, lo, hi)};
-    }
-  };
-
   struct Context {
     const TileFrame& f;
     const TileRect& tile;
@@ -130,6 +103,8 @@ struct TileKernelImpl {
   // carry no branch on state they do not use.
   static void triangle(Context& cx, const front::TriangleSetup& t) {
     const DrawState& ds = cx.f.states[t.draw];
+    // A depth-only draw neither shades nor touches colour: flat or SSAA make no difference to it.
+    if (!ds.color_write) return triangle_depth<false, true, false>(cx, t, ds);
     if (cx.f.ssaa) return triangle_state<true>(cx, t, ds);
     return triangle_state<false>(cx, t, ds);
   }
@@ -138,25 +113,25 @@ struct TileKernelImpl {
     if (t.flat) return triangle_depth<kSsaa, true>(cx, t, ds);
     return triangle_depth<kSsaa, false>(cx, t, ds);
   }
-  template <bool kSsaa, bool kFlat>
+  template <bool kSsaa, bool kFlat, bool kColor = true>
   static void triangle_depth(Context& cx, const front::TriangleSetup& t, const DrawState& ds) {
     const bool w = ds.depth_write;
     switch (ds.depth_test) {
       case DepthTest::kLess:
-        return w ? triangle_impl<DepthTest::kLess, true, kFlat, kSsaa>(cx, t)
-                 : triangle_impl<DepthTest::kLess, false, kFlat, kSsaa>(cx, t);
+        return w ? triangle_impl<DepthTest::kLess, true, kFlat, kSsaa, kColor>(cx, t)
+                 : triangle_impl<DepthTest::kLess, false, kFlat, kSsaa, kColor>(cx, t);
       case DepthTest::kLessEqual:
-        return w ? triangle_impl<DepthTest::kLessEqual, true, kFlat, kSsaa>(cx, t)
-                 : triangle_impl<DepthTest::kLessEqual, false, kFlat, kSsaa>(cx, t);
+        return w ? triangle_impl<DepthTest::kLessEqual, true, kFlat, kSsaa, kColor>(cx, t)
+                 : triangle_impl<DepthTest::kLessEqual, false, kFlat, kSsaa, kColor>(cx, t);
       case DepthTest::kGreater:
-        return w ? triangle_impl<DepthTest::kGreater, true, kFlat, kSsaa>(cx, t)
-                 : triangle_impl<DepthTest::kGreater, false, kFlat, kSsaa>(cx, t);
+        return w ? triangle_impl<DepthTest::kGreater, true, kFlat, kSsaa, kColor>(cx, t)
+                 : triangle_impl<DepthTest::kGreater, false, kFlat, kSsaa, kColor>(cx, t);
       case DepthTest::kGreaterEqual:
-        return w ? triangle_impl<DepthTest::kGreaterEqual, true, kFlat, kSsaa>(cx, t)
-                 : triangle_impl<DepthTest::kGreaterEqual, false, kFlat, kSsaa>(cx, t);
+        return w ? triangle_impl<DepthTest::kGreaterEqual, true, kFlat, kSsaa, kColor>(cx, t)
+                 : triangle_impl<DepthTest::kGreaterEqual, false, kFlat, kSsaa, kColor>(cx, t);
       case DepthTest::kAlways:
-        return w ? triangle_impl<DepthTest::kAlways, true, kFlat, kSsaa>(cx, t)
-                 : triangle_impl<DepthTest::kAlways, false, kFlat, kSsaa>(cx, t);
+        return w ? triangle_impl<DepthTest::kAlways, true, kFlat, kSsaa, kColor>(cx, t)
+                 : triangle_impl<DepthTest::kAlways, false, kFlat, kSsaa, kColor>(cx, t);
     }
   }
 
@@ -180,7 +155,7 @@ struct TileKernelImpl {
     return 1;
   }
 
-  template <DepthTest kTest, bool kWrite, bool kFlat, bool kSsaa>
+  template <DepthTest kTest, bool kWrite, bool kFlat, bool kSsaa, bool kColor>
   static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
@@ -222,7 +197,7 @@ struct TileKernelImpl {
     }
     const float tlo = t.z_min, thi = t.z_max;
     const F x0(t.x0), y0(t.y0), zb(t.z.base), zdx(t.z.ddx), zdy(t.z.ddy), zlo(tlo), zhi(thi);
-    const I flat_color(bits_of(t.color));
+    [[maybe_unused]] const I flat_color(bits_of(t.color));
 
     for (int by = byb; by < bye; ++by) {
       const int py0 = tile.y0 + by * kBlockSize;
@@ -288,10 +263,11 @@ struct TileKernelImpl {
 
         // 3–5. Coverage, depth test and writes, one sample and one vector of pixels at a time.
         float* dblk = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
-        std::uint32_t* cblk = cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+        [[maybe_unused]] std::uint32_t* cblk =
+            kColor ? cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels : nullptr;
         const F fx_blk = F(static_cast<float>(px0));
-        I pixel_color[kVectors];
-        std::uint32_t shaded = 0;
+        [[maybe_unused]] I pixel_color[kVectors];
+        [[maybe_unused]] std::uint32_t shaded = 0;
         std::uint64_t tested = 0, written = 0, covered = 0;
         for (int s = 0; s < S; ++s) {
           std::uint64_t m;
@@ -338,21 +314,23 @@ struct TileKernelImpl {
               if constexpr (kWrite) xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
             }
             tested += static_cast<std::uint64_t>(std::popcount(lanes));
-            I color;
-            if constexpr (kFlat) {
-              color = flat_color;
-            } else if constexpr (kSsaa) {
-              color = shade(t, fx, fy);
-            } else {
-              if (!(shaded & (1u << v))) {
-                pixel_color[v] = shade(t, cxp + F(0.5f), cyp + F(0.5f));
-                shaded |= 1u << v;
-              }
-              color = pixel_color[v];
-            }
-            std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + s * kBlockPixels + v * L);
-            xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
             written += static_cast<std::uint64_t>(std::popcount(pass));
+            if constexpr (kColor) {  // a depth-only draw shades nothing and leaves colour alone
+              I color;
+              if constexpr (kFlat) {
+                color = flat_color;
+              } else if constexpr (kSsaa) {
+                color = shade(t, fx, fy);
+              } else {
+                if (!(shaded & (1u << v))) {
+                  pixel_color[v] = shade(t, cxp + F(0.5f), cyp + F(0.5f));
+                  shaded |= 1u << v;
+                }
+                color = pixel_color[v];
+              }
+              std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + s * kBlockPixels + v * L);
+              xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
+            }
           }
         }
         cx.st.samples_tested += tested;
@@ -424,7 +402,82 @@ struct TileKernelImpl {
     return m;
   }
 
+  // The end of a tile: its hierarchical z, its image and the per-sample outputs it is asked for.
   static void resolve_tile(Context& cx) {
+    const TileFrame& f = cx.f;
+    const TileRect& tile = cx.tile;
+    const int S = f.samples;
+    if (f.hiz_min) store_hiz(cx);
+    if (f.keep_color) resolve_color(cx);
+    if (f.sample_color || f.sample_depth) {
+      for (int y = 0; y < tile.height; ++y) {
+        for (int x = 0; x < tile.width; ++x) {
+          const int blk = (y / kBlockSize) * kBlocksPerTileSide + x / kBlockSize;
+          const int p = (y % kBlockSize) * kBlockSize + x % kBlockSize;
+          const std::size_t out =
+              (static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0 + x) * S;
+          for (int s = 0; s < S; ++s) {
+            const std::size_t in = (static_cast<std::size_t>(blk) * S + s) * kBlockPixels + p;
+            // (Sample colour is asked for only from a tile that keeps colour.)
+            if (f.sample_color) f.sample_color[out + s] = std::bit_cast<Rgba8>(cx.sc.color[in]);
+            if (f.sample_depth)
+              f.sample_depth[out + s] = f.keep_depth ? cx.sc.depth[in] : f.clear_depth;
+          }
+        }
+      }
+    }
+  }
+
+  // Exact depth bounds of each of the tile's blocks inside the image, into the frame's
+  // hierarchical z. The samples are in cache; the bounds the triangle loop keeps are only
+  // conservative (they narrow when one triangle covers a whole block, rare for small triangles).
+  static void store_hiz(Context& cx) {
+    const TileFrame& f = cx.f;
+    const TileRect& tile = cx.tile;
+    const int S = f.samples;
+    const int stride = (f.width + kBlockSize - 1) / kBlockSize;
+    for (int by = 0; by * kBlockSize < tile.height; ++by) {
+      for (int bx = 0; bx * kBlockSize < tile.width; ++bx) {
+        const int blk = by * kBlocksPerTileSide + bx;
+        const std::size_t out = static_cast<std::size_t>(tile.y0 / kBlockSize + by) * stride +
+                                static_cast<std::size_t>(tile.x0 / kBlockSize + bx);
+        float lo = f.clear_depth, hi = f.clear_depth;  // a frame without depth holds only these
+        const float* d = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+        const std::uint64_t valid = cx.valid[blk];
+        if (f.keep_depth && valid == ~std::uint64_t{0}) {
+          F vlo = F::load_aligned(d), vhi = vlo;
+          for (int i = L; i < S * kBlockPixels; i += L) {
+            const F z = F::load_aligned(d + i);
+            vlo = xsimd::min(vlo, z);
+            vhi = xsimd::max(vhi, z);
+          }
+          alignas(64) float ls[L], hs[L];  // xsimd 8.1 has no min/max reduction
+          vlo.store_aligned(ls);
+          vhi.store_aligned(hs);
+          lo = ls[0];
+          hi = hs[0];
+          for (int l = 1; l < L; ++l) {
+            lo = std::min(lo, ls[l]);
+            hi = std::max(hi, hs[l]);
+          }
+        } else if (f.keep_depth) {  // a block cut by the image's right or bottom edge
+          lo = std::numeric_limits<float>::infinity();
+          hi = -lo;
+          for (int s = 0; s < S; ++s)
+            for (int p = 0; p < kBlockPixels; ++p)
+              if ((valid >> p) & 1) {
+                lo = std::min(lo, d[s * kBlockPixels + p]);
+                hi = std::max(hi, d[s * kBlockPixels + p]);
+              }
+        }
+        f.hiz_min[out] = lo;
+        f.hiz_max[out] = hi;
+      }
+    }
+  }
+
+  // The box filter of every pixel, into the image.
+  static void resolve_color(Context& cx) {
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
     const int S = f.samples;
@@ -471,21 +524,6 @@ struct TileKernelImpl {
                                      tile.x0),
                   cx.sc.resolved + y * kTileSize, sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
     }
-    if (f.sample_color || f.sample_depth) {
-      for (int y = 0; y < tile.height; ++y) {
-        for (int x = 0; x < tile.width; ++x) {
-          const int blk = (y / kBlockSize) * kBlocksPerTileSide + x / kBlockSize;
-          const int p = (y % kBlockSize) * kBlockSize + x % kBlockSize;
-          const std::size_t out =
-              (static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0 + x) * S;
-          for (int s = 0; s < S; ++s) {
-            const std::size_t in = (static_cast<std::size_t>(blk) * S + s) * kBlockPixels + p;
-            if (f.sample_color) f.sample_color[out + s] = std::bit_cast<Rgba8>(cx.sc.color[in]);
-            if (f.sample_depth) f.sample_depth[out + s] = cx.sc.depth[in];
-          }
-        }
-      }
-    }
   }
 
   static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,
@@ -506,13 +544,16 @@ struct TileKernelImpl {
       cx.soff[0][s] = kHalf + o.dx * kSampleOffsetScale;
       cx.soff[1][s] = kHalf + o.dy * kSampleOffsetScale;
     }
-    // Clear the tile's samples and its hierarchical z.
+    // Clear the buffers the frame uses, and the tile's hierarchical z.
     const std::size_t n = static_cast<std::size_t>(kBlocksPerTile) * f.samples * kBlockPixels;
-    const I cc(bits_of(f.clear_color));
-    const F cd(f.clear_depth);
-    for (std::size_t i = 0; i < n; i += L) {
-      cc.store_aligned(reinterpret_cast<std::int32_t*>(sc.color.get() + i));
-      cd.store_aligned(sc.depth.get() + i);
+    if (f.keep_color) {
+      const I cc(bits_of(f.clear_color));
+      for (std::size_t i = 0; i < n; i += L)
+        cc.store_aligned(reinterpret_cast<std::int32_t*>(sc.color.get() + i));
+    }
+    if (f.keep_depth) {
+      const F cd(f.clear_depth);
+      for (std::size_t i = 0; i < n; i += L) cd.store_aligned(sc.depth.get() + i);
     }
     for (int blk = 0; blk < kBlocksPerTile; ++blk) {
       sc.zmin[blk] = sc.zmax[blk] = f.clear_depth;

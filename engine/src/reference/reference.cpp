@@ -68,6 +68,8 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
           const std::size_t i = (static_cast<std::size_t>(py) * W + px) * S + s;
           if (!raster::depth_passes(state.depth_test, z, buf.depth[i])) continue;
           if (state.depth_write) buf.depth[i] = z;
+          ++stats.samples_written;
+          if (!state.color_write) continue;  // a depth-only draw: no shading, no colour
           Rgba8 c;
           if (frame.ssaa) {
             c = front::shade(t, fx, fy);
@@ -78,7 +80,6 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
             c = pixel_color;
           }
           buf.color[i] = c;
-          ++stats.samples_written;
         }
       }
     }

@@ -1,0 +1,85 @@
+// raster/hiz.hpp — hierarchical z: conservative depth bounds of 8×8-pixel blocks, shared by the
+// tile kernels, the reference and the occlusion queries.
+//
+// Takes: a triangle's setup (for its depth over a block), or a frame's per-sample depth. Gives:
+// BlockDepthRange (a triangle's depth range over a pixel rectangle, bounding every per-sample
+// depth any rasterizer computes there), hiz_hidden() (whether a depth range can pass a test
+// against a block's bounds), and the frame-level block bounds built from per-sample depth.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <span>
+#include <utility>
+
+#include "front/setup.hpp"
+#include "mosaic/types.hpp"
+
+namespace mosaic::raster {
+
+/// A triangle's depth over a pixel rectangle, bounding every per-sample depth the rasterizers
+/// compute there. Samples of the rectangle [px0, px0 + w) × [py0, py0 + h) lie inside it, so
+/// the plane's extremes over that rectangle, evaluated in double, bound the exact plane; the float
+/// evaluation of a sample (two products and two sums, then the clamp) errs by at most 2u·mag to
+/// first order, where u = 2^-24 and mag = |base| + |ddx·dx| + |ddy·dy|. kMarginScale = 2^-21 = 8u
+/// covers that and the final rounding to float with room to spare. Clamping is monotone, so the
+/// clamped range bounds the clamped samples.
+struct BlockDepthRange {
+  static constexpr double kMarginScale = 1.0 / (1 << 21);
+  double base, ddx, ddy, x0, y0;
+  explicit BlockDepthRange(const front::TriangleSetup& t)
+      : base(t.z.base), ddx(t.z.ddx), ddy(t.z.ddy), x0(t.x0), y0(t.y0) {}
+  /// The clamped depth range over the pixels [px0, px0 + w) × [py0, py0 + h).
+  std::pair<float, float> over(int px0, int py0, int w, int h, float lo, float hi) const {
+    const double dx = px0 - x0, dy = py0 - y0, ew = w, eh = h;
+    const double corner = base + ddx * dx + ddy * dy;
+    const double mag = std::abs(base) +
+                       std::abs(ddx) * std::max(std::abs(dx), std::abs(dx + ew)) +
+                       std::abs(ddy) * std::max(std::abs(dy), std::abs(dy + eh));
+    const double margin = mag * kMarginScale;
+    const double ex_lo = std::min(0.0, ddx * ew) + std::min(0.0, ddy * eh);
+    const double ex_hi = std::max(0.0, ddx * ew) + std::max(0.0, ddy * eh);
+    const float zl = static_cast<float>(corner + ex_lo - margin);
+    const float zh = static_cast<float>(corner + ex_hi + margin);
+    return {std::clamp(zl, lo, hi), std::clamp(zh, lo, hi)};
+  }
+};
+
+/// True when no depth in [lo, hi] can pass `test` against any stored depth in [zmin, zmax]. A
+/// NaN anywhere makes every comparison false, so the answer is "not hidden" (conservative).
+inline bool hiz_hidden(DepthTest test, float lo, float hi, float zmin, float zmax) {
+  switch (test) {
+    case DepthTest::kLess: return lo >= zmax;
+    case DepthTest::kLessEqual: return lo > zmax;
+    case DepthTest::kGreater: return hi <= zmin;
+    case DepthTest::kGreaterEqual: return hi < zmin;
+    case DepthTest::kAlways: return false;
+  }
+  return false;
+}
+
+/// Exact bounds of every 8×8 block of a frame's per-sample depth (index ((y*W+x)*S+s)), written
+/// to zmin / zmax, ceil(W/8) × ceil(H/8) blocks row-major. Blocks at the image's right and bottom
+/// edges cover only the pixels inside the image. The tile kernels compute the same values.
+inline void block_bounds_from_samples(std::span<const float> depth, int width, int height,
+                                      int samples, int block, float* zmin, float* zmax) {
+  const int bw = (width + block - 1) / block, bh = (height + block - 1) / block;
+  for (int by = 0; by < bh; ++by) {
+    for (int bx = 0; bx < bw; ++bx) {
+      float lo = depth[(static_cast<std::size_t>(by * block) * width + bx * block) * samples];
+      float hi = lo;
+      for (int y = by * block; y < std::min(height, (by + 1) * block); ++y)
+        for (int x = bx * block; x < std::min(width, (bx + 1) * block); ++x)
+          for (int s = 0; s < samples; ++s) {
+            const float z = depth[(static_cast<std::size_t>(y) * width + x) * samples + s];
+            lo = std::min(lo, z);
+            hi = std::max(hi, z);
+          }
+      zmin[by * bw + bx] = lo;
+      zmax[by * bw + bx] = hi;
+    }
+  }
+}
+
+}  // namespace mosaic::raster
