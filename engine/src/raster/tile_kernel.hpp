@@ -17,9 +17,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <utility>
 #include <bit>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -42,6 +44,9 @@ struct TileKernelImpl {
   static constexpr int kVectors = kBlockPixels / L;  ///< vectors per sample of a block
   static constexpr std::uint32_t kLaneBits = L == 32 ? 0xffffffffu : (1u << L) - 1;
   static_assert(kBlockPixels % L == 0);
+  /// Vectors until the lanes' pixel columns repeat, and the rows that period advances by.
+  static constexpr int kPeriod = L >= kBlockSize ? 1 : kBlockSize / L;
+  static constexpr int kPeriodRows = L >= kBlockSize ? L / kBlockSize : 1;
 
   /// Lane l of vector v holds pixel p = v * L + l of the block: column p % 8, row p / 8.
   static I lane_col(int v) {
@@ -104,7 +109,11 @@ struct TileKernelImpl {
   static void triangle(Context& cx, const front::TriangleSetup& t) {
     const DrawState& ds = cx.f.states[t.draw];
     // A depth-only draw neither shades nor touches colour: flat or SSAA make no difference to it.
-    if (!ds.color_write) return triangle_depth<false, true, false>(cx, t, ds);
+    // With one sample, the depth-only kernel (the occluder pass) is specialised further.
+    if (!ds.color_write) {
+      if (cx.f.samples == 1) return triangle_depth<false, true, false, true>(cx, t, ds);
+      return triangle_depth<false, true, false, false>(cx, t, ds);
+    }
     if (cx.f.ssaa) return triangle_state<true>(cx, t, ds);
     return triangle_state<false>(cx, t, ds);
   }
@@ -113,25 +122,25 @@ struct TileKernelImpl {
     if (t.flat) return triangle_depth<kSsaa, true>(cx, t, ds);
     return triangle_depth<kSsaa, false>(cx, t, ds);
   }
-  template <bool kSsaa, bool kFlat, bool kColor = true>
+  template <bool kSsaa, bool kFlat, bool kColor = true, bool kS1 = false>
   static void triangle_depth(Context& cx, const front::TriangleSetup& t, const DrawState& ds) {
     const bool w = ds.depth_write;
     switch (ds.depth_test) {
       case DepthTest::kLess:
-        return w ? triangle_impl<DepthTest::kLess, true, kFlat, kSsaa, kColor>(cx, t)
-                 : triangle_impl<DepthTest::kLess, false, kFlat, kSsaa, kColor>(cx, t);
+        return w ? triangle_impl<DepthTest::kLess, true, kFlat, kSsaa, kColor, kS1>(cx, t)
+                 : triangle_impl<DepthTest::kLess, false, kFlat, kSsaa, kColor, kS1>(cx, t);
       case DepthTest::kLessEqual:
-        return w ? triangle_impl<DepthTest::kLessEqual, true, kFlat, kSsaa, kColor>(cx, t)
-                 : triangle_impl<DepthTest::kLessEqual, false, kFlat, kSsaa, kColor>(cx, t);
+        return w ? triangle_impl<DepthTest::kLessEqual, true, kFlat, kSsaa, kColor, kS1>(cx, t)
+                 : triangle_impl<DepthTest::kLessEqual, false, kFlat, kSsaa, kColor, kS1>(cx, t);
       case DepthTest::kGreater:
-        return w ? triangle_impl<DepthTest::kGreater, true, kFlat, kSsaa, kColor>(cx, t)
-                 : triangle_impl<DepthTest::kGreater, false, kFlat, kSsaa, kColor>(cx, t);
+        return w ? triangle_impl<DepthTest::kGreater, true, kFlat, kSsaa, kColor, kS1>(cx, t)
+                 : triangle_impl<DepthTest::kGreater, false, kFlat, kSsaa, kColor, kS1>(cx, t);
       case DepthTest::kGreaterEqual:
-        return w ? triangle_impl<DepthTest::kGreaterEqual, true, kFlat, kSsaa, kColor>(cx, t)
-                 : triangle_impl<DepthTest::kGreaterEqual, false, kFlat, kSsaa, kColor>(cx, t);
+        return w ? triangle_impl<DepthTest::kGreaterEqual, true, kFlat, kSsaa, kColor, kS1>(cx, t)
+                 : triangle_impl<DepthTest::kGreaterEqual, false, kFlat, kSsaa, kColor, kS1>(cx, t);
       case DepthTest::kAlways:
-        return w ? triangle_impl<DepthTest::kAlways, true, kFlat, kSsaa, kColor>(cx, t)
-                 : triangle_impl<DepthTest::kAlways, false, kFlat, kSsaa, kColor>(cx, t);
+        return w ? triangle_impl<DepthTest::kAlways, true, kFlat, kSsaa, kColor, kS1>(cx, t)
+                 : triangle_impl<DepthTest::kAlways, false, kFlat, kSsaa, kColor, kS1>(cx, t);
     }
   }
 
@@ -155,11 +164,11 @@ struct TileKernelImpl {
     return 1;
   }
 
-  template <DepthTest kTest, bool kWrite, bool kFlat, bool kSsaa, bool kColor>
+  template <DepthTest kTest, bool kWrite, bool kFlat, bool kSsaa, bool kColor, bool kS1>
   static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
-    const int S = f.samples;
+    const int S = kS1 ? 1 : f.samples;
 
     const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
     const int y_lo = std::max(t.by0, tile.y0), y_hi = std::min(t.by1, tile.y0 + tile.height);
@@ -170,8 +179,14 @@ struct TileKernelImpl {
     // Hierarchical z over the whole tile first: a triangle hidden behind every block the tile
     // has is dropped without visiting one (the common case under heavy overdraw).
     const BlockDepthRange zrange(t);
+    // The triangle's depth over its box in this tile bounds the depth of every sample it covers
+    // (they lie in the box), so a triangle whose box meets at most 2×2 blocks uses it for each of
+    // its blocks instead of computing one range per block: exact output either way, the ranges
+    // only decide which work is skipped.
+    float rlo = t.z_min, rhi = t.z_max;
+    const bool small_box = bxe - bxb <= 2 && bye - byb <= 2;
     if constexpr (kTest != DepthTest::kAlways) {
-      const auto [rlo, rhi] = zrange.over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
+      std::tie(rlo, rhi) = zrange.over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
       bool hidden = hiz<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
       if (!hidden && cx.tile_z_loose) {
         refresh_tile_z(cx);
@@ -186,14 +201,23 @@ struct TileKernelImpl {
 
     // Per-triangle SIMD constants. Offsets are exact modulo 2^32: the int32 lanes wrap, and
     // where the final value is known to fit int32 (fits32 below) the wrapped sum is exact.
-    std::int64_t a[3], b[3];
+    std::int64_t a[3], b[3], estep[3], elo[3], ehi[3];
     I eoff[3][kVectors];
     for (int e = 0; e < 3; ++e) {
       a[e] = t.edge[e].a;
       b[e] = t.edge[e].b;
+      // One block to the right, and the edge's extremes over a block from its corner value.
+      const std::int64_t da = a[e] * kBlockSpan, db = b[e] * kBlockSpan;
+      estep[e] = da;
+      elo[e] = std::min<std::int64_t>(0, da) + std::min<std::int64_t>(0, db);
+      ehi[e] = std::max<std::int64_t>(0, da) + std::max<std::int64_t>(0, db);
       const I as(static_cast<std::int32_t>(a[e] * kSubpixel));
       const I bs(static_cast<std::int32_t>(b[e] * kSubpixel));
-      for (int v = 0; v < kVectors; ++v) eoff[e][v] = as * cx.col[v] + bs * cx.row[v];
+      // The lanes' columns repeat every kPeriod vectors, kPeriodRows rows further down: after the
+      // first period, each offset is the one a period before plus that many rows (mod 2^32).
+      for (int v = 0; v < kPeriod; ++v) eoff[e][v] = as * cx.col[v] + bs * cx.row[v];
+      const I rows_down(static_cast<std::int32_t>(b[e] * kSubpixel * kPeriodRows));
+      for (int v = kPeriod; v < kVectors; ++v) eoff[e][v] = eoff[e][v - kPeriod] + rows_down;
     }
     const float tlo = t.z_min, thi = t.z_max;
     const F x0(t.x0), y0(t.y0), zb(t.z.base), zdx(t.z.ddx), zdy(t.z.ddy), zlo(tlo), zhi(thi);
@@ -205,9 +229,9 @@ struct TileKernelImpl {
       // linear in the block's x, so each edge bounds bx from one side.
       int row_b = bxb, row_e = bxe;
       const std::int64_t x_base = std::int64_t{tile.x0} * kSubpixel;
-      // (A one-block-wide box has nothing to narrow: the corner test below decides alone, and
-      // small triangles skip three int64 divisions per block row.)
-      for (int e = 0; e < 3 && row_e - row_b > 1; ++e) {
+      // (A box one or two blocks wide is left to the corner test below: three int64 divisions
+      // per block row cost more than testing a second block's corners.)
+      for (int e = 0; e < 3 && row_e - row_b > 2; ++e) {
         // max over the block at column bx = a * X(bx) + k, X(bx) = (tile.x0 + 8 bx) * 256.
         const std::int64_t k = b[e] * (std::int64_t{py0} * kSubpixel) + t.edge[e].c +
                                std::max<std::int64_t>(0, a[e] * kBlockSpan) +
@@ -230,35 +254,39 @@ struct TileKernelImpl {
       const int v_end = (r1 * kBlockSize + L - 1) / L;
       const F fy_row = F(static_cast<float>(py0));
 
+      // Edge functions at the corner of block row_b, stepped by one block along the row.
+      std::int64_t erow[3];
+      for (int e = 0; e < 3; ++e)
+        erow[e] = a[e] * ((std::int64_t{tile.x0} + std::int64_t{row_b} * kBlockSize) * kSubpixel) +
+                  b[e] * (std::int64_t{py0} * kSubpixel) + t.edge[e].c;
       for (int bx = row_b; bx < row_e; ++bx) {
         const int blk = by * kBlocksPerTileSide + bx;
         const std::uint64_t valid = cx.valid[blk];
-        if (!valid) continue;
+        // 1. Edge functions at the block's corner, and their extremes over the block: an edge
+        // rejects the block before anything else is computed for it.
+        std::int64_t eorg[3];
+        bool all_in = true, fits32 = true, outside = false;
+        for (int e = 0; e < 3; ++e) {
+          eorg[e] = erow[e];
+          erow[e] += estep[e];
+          const std::int64_t lo = eorg[e] + elo[e], hi = eorg[e] + ehi[e];
+          outside |= hi < 0;
+          all_in &= lo >= 0;
+          fits32 &= lo >= std::numeric_limits<std::int32_t>::min() &&
+                    hi <= std::numeric_limits<std::int32_t>::max();
+        }
+        if (outside || !valid) continue;
         const int px0 = tile.x0 + bx * kBlockSize;
 
-        // 1. Hierarchical z, with the triangle's depth range over this block only.
-        const auto [blo, bhi] = zrange.over(px0, py0, kBlockSize, kBlockSize, tlo, thi);
+        // 2. Hierarchical z, with the triangle's depth range over this block only.
+        const auto [blo, bhi] = small_box ? std::pair<float, float>{rlo, rhi}
+                                          : zrange.over(px0, py0, kBlockSize, kBlockSize, tlo, thi);
         const int hz = hiz<kTest>(blo, bhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
         if (hz < 0) {
           ++cx.st.blocks_hiz_rejected;
           continue;
         }
         const bool test = hz == 0;
-
-        // 2. Edge functions at the block's corner, and their extremes over the block.
-        std::int64_t eorg[3];
-        bool all_in = true, fits32 = true, outside = false;
-        for (int e = 0; e < 3; ++e) {
-          eorg[e] = a[e] * (std::int64_t{px0} * kSubpixel) + b[e] * (std::int64_t{py0} * kSubpixel) + t.edge[e].c;
-          const std::int64_t da = a[e] * kBlockSpan, db = b[e] * kBlockSpan;
-          const std::int64_t lo = eorg[e] + std::min<std::int64_t>(0, da) + std::min<std::int64_t>(0, db);
-          const std::int64_t hi = eorg[e] + std::max<std::int64_t>(0, da) + std::max<std::int64_t>(0, db);
-          outside |= hi < 0;
-          all_in &= lo >= 0;
-          fits32 &= lo >= std::numeric_limits<std::int32_t>::min() &&
-                    hi <= std::numeric_limits<std::int32_t>::max();
-        }
-        if (outside) continue;
         if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
 
         // 3–5. Coverage, depth test and writes, one sample and one vector of pixels at a time.
@@ -274,9 +302,11 @@ struct TileKernelImpl {
           if (all_in) {
             m = valid;
           } else if (fits32) {
-            const I b0(static_cast<std::int32_t>(eorg[0] + cx.soff[0][s] * a[0] + cx.soff[1][s] * b[0]));
-            const I b1(static_cast<std::int32_t>(eorg[1] + cx.soff[0][s] * a[1] + cx.soff[1][s] * b[1]));
-            const I b2(static_cast<std::int32_t>(eorg[2] + cx.soff[0][s] * a[2] + cx.soff[1][s] * b[2]));
+            // (One sample per pixel: at the centre, kHalf from the corner on both axes.)
+            const std::int64_t sx = kS1 ? kHalf : cx.soff[0][s], sy = kS1 ? kHalf : cx.soff[1][s];
+            const I b0(static_cast<std::int32_t>(eorg[0] + sx * a[0] + sy * b[0]));
+            const I b1(static_cast<std::int32_t>(eorg[1] + sx * a[1] + sy * b[1]));
+            const I b2(static_cast<std::int32_t>(eorg[2] + sx * a[2] + sy * b[2]));
             m = 0;
             for (int v = v_begin; v < v_end; ++v) {
               const I e = (b0 + eoff[0][v]) | (b1 + eoff[1][v]) | (b2 + eoff[2][v]);
@@ -296,7 +326,7 @@ struct TileKernelImpl {
             // Sample positions in pixels (exact in float), then the depth plane of the
             // reference: (base + ddx * (x - x0)) + ddy * (y - y0), clamped.
             const F cxp = fx_blk + cx.colf[v], cyp = fy_row + cx.rowf[v];
-            const F fx = cxp + cx.ox[s], fy = cyp + cx.oy[s];
+            const F fx = cxp + (kS1 ? F(0.5f) : cx.ox[s]), fy = cyp + (kS1 ? F(0.5f) : cx.oy[s]);
             const F zr = (zb + zdx * (fx - x0)) + zdy * (fy - y0);
             const F zc = xsimd::select(zr > zlo, zr, zlo);
             const F z = xsimd::select(zc < zhi, zc, zhi);
@@ -568,8 +598,19 @@ struct TileKernelImpl {
         sc.zmax[blk] = -std::numeric_limits<float>::infinity();
       }
     }
-    for (const BinRun& run : bin)
-      for (const std::uint32_t i : run.indices) triangle(cx, run.tris[i]);
+    for (const BinRun& run : bin) {
+      const std::span<const std::uint32_t> idx = run.indices;
+      for (std::size_t k = 0; k < idx.size(); ++k) {
+        // A bin's triangles lie far apart in the setup arrays (a tile takes a sparse subset),
+        // so each is a cache miss: fetch the setup kPrefetchAhead triangles ahead while this one
+        // is drawn (the kernels read its first kPrefetchLines lines).
+        if (k + kPrefetchAhead < idx.size()) {
+          const char* p = reinterpret_cast<const char*>(&run.tris[idx[k + kPrefetchAhead]]);
+          for (int l = 0; l < kPrefetchLines; ++l) __builtin_prefetch(p + l * kCacheLine);
+        }
+        triangle(cx, run.tris[idx[k]]);
+      }
+    }
     const auto r0 = std::chrono::steady_clock::now();
     resolve_tile(cx);
     st.resolve_ns += static_cast<std::uint64_t>(
@@ -584,6 +625,12 @@ struct TileKernelImpl {
   }
 
   static constexpr std::int64_t kSubpixel = 256;         ///< one pixel in 16.8 units
+  /// Triangles prefetched ahead: one is ~2000 instructions of work, plenty to hide a miss.
+  static constexpr std::size_t kPrefetchAhead = 2;
+  static constexpr int kCacheLine = 64;
+  /// Lines of a TriangleSetup the kernels read: edges, anchor, box, depth plane, flags, colour.
+  static constexpr int kPrefetchLines =
+      static_cast<int>((offsetof(front::TriangleSetup, q) + kCacheLine - 1) / kCacheLine);
   static constexpr std::int64_t kHalf = 128;             ///< half a pixel: the pixel centre
   static constexpr std::int64_t kBlockSpan = kBlockSize * kSubpixel;  ///< a block's width in 16.8
 };
