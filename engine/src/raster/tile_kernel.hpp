@@ -12,7 +12,13 @@
 //      int32 falls back to a scalar int64 loop);
 //   4. depth (float plane, the same operations as the reference) and the per-sample test;
 //   5. colour: once per pixel (MSAA) or per sample (SSAA), written where the test passed.
-// At the end the tile's samples are resolved (box filter) while they are still in cache.
+// The kernel a triangle gets is specialised on what its draw uses (triangle() picks it): the
+// depth test and write, flat or interpolated colour, MSAA or SSAA, and colour write — a
+// depth-only draw shades nothing and touches no colour memory, and at one sample its kernel is
+// specialised once more (the occluder pass). The tile clears and resolves only the buffers the
+// frame uses (TileFrame::keep_color, keep_depth).
+// At the end the tile's samples are resolved (box filter) while they are still in cache, and
+// its blocks' exact depth bounds go to the frame's hierarchical z when asked for.
 #pragma once
 
 #include <algorithm>
@@ -625,7 +631,9 @@ struct TileKernelImpl {
   }
 
   static constexpr std::int64_t kSubpixel = 256;         ///< one pixel in 16.8 units
-  /// Triangles prefetched ahead: one is ~2000 instructions of work, plenty to hide a miss.
+  /// Triangles prefetched ahead: one is ~2000 instructions of work, enough to hide a miss to
+  /// L3. Measured (random-small, depth-only 1x, AVX-512, raster stage): no prefetch 32.9 ms, 1 or 2
+  /// ahead 24.5 ms, 6 ahead 31 ms.
   static constexpr std::size_t kPrefetchAhead = 2;
   static constexpr int kCacheLine = 64;
   /// Lines of a TriangleSetup the kernels read: edges, anchor, box, depth plane, flags, colour.
