@@ -4,7 +4,8 @@
 // Takes: a tile, its bin and the frame state (raster/tile.hpp). Gives: the tile resolved into
 // the image. For each triangle, in submission order, it walks the 8×8-pixel blocks of the
 // triangle's bounding box inside the tile:
-//   1. trivial reject / accept of the block from the edge functions at its corners (int64);
+//   1. trivial reject / accept of the block from the edge functions at its corners (int64,
+//      stepped from block to block along a row);
 //   2. hierarchical z: reject the block if the triangle is entirely behind it, or skip the
 //      per-sample depth test if it is entirely in front;
 //   3. coverage: one 64-bit mask per sample, from SIMD int32 edge functions stepped from the
@@ -284,7 +285,7 @@ struct TileKernelImpl {
         if (outside || !valid) continue;
         const int px0 = tile.x0 + bx * kBlockSize;
 
-        // 2. Hierarchical z, with the triangle's depth range over this block only.
+        // 2. Hierarchical z, with the triangle's depth range over this block (its box's, if small).
         const auto [blo, bhi] = small_box ? std::pair<float, float>{rlo, rhi}
                                           : zrange.over(px0, py0, kBlockSize, kBlockSize, tlo, thi);
         const int hz = hiz<kTest>(blo, bhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
