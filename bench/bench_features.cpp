@@ -53,11 +53,16 @@ enum class Variant { kColorDepth, kDepthOnly, kDepthOff, kInterpolated, kDepthOn
 
 const char* name(Variant v) {
   switch (v) {
-    case Variant::kColorDepth: return "color+depth";
-    case Variant::kDepthOnly: return "depth-only";
-    case Variant::kDepthOff: return "depth-off";
-    case Variant::kInterpolated: return "interpolated";
-    case Variant::kDepthOnlyHiz: return "depth-only+hiz";
+    case Variant::kColorDepth:
+      return "color+depth";
+    case Variant::kDepthOnly:
+      return "depth-only";
+    case Variant::kDepthOff:
+      return "depth-off";
+    case Variant::kInterpolated:
+      return "interpolated";
+    case Variant::kDepthOnlyHiz:
+      return "depth-only+hiz";
   }
   return "?";
 }
@@ -205,9 +210,14 @@ void bench_triangles(benchmark::State& state, bool wall) {
     auto p = [&](double px, double py, double pz) {
       return glm::vec4(static_cast<float>(px), static_cast<float>(py), static_cast<float>(pz), 1);
     };
-    const glm::vec4 c[8] = {p(x, y, z),         p(x + s, y, z),         p(x + s, y + s, z),
-                            p(x, y + s, z),     p(x + d, y - d, z + .05), p(x + s + d, y - d, z + .05),
-                            p(x + s + d, y + s - d, z + .05), p(x + d, y + s - d, z + .05)};
+    const glm::vec4 c[8] = {p(x, y, z),
+                            p(x + s, y, z),
+                            p(x + s, y + s, z),
+                            p(x, y + s, z),
+                            p(x + d, y - d, z + .05),
+                            p(x + s + d, y - d, z + .05),
+                            p(x + s + d, y + s - d, z + .05),
+                            p(x + d, y + s - d, z + .05)};
     const int faces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4},
                              {3, 2, 6, 7}, {0, 3, 7, 4}, {1, 2, 6, 5}};
     for (const auto& f : faces)
@@ -233,8 +243,7 @@ void bench_triangles(benchmark::State& state, bool wall) {
   }
   if (seconds > 0) {
     state.counters["Kqueries/s"] = static_cast<double>(queries) / seconds * 1e-3;
-    state.counters["Mtri/s"] =
-        static_cast<double>(queries) * kTrianglesPerBox / seconds * 1e-6;
+    state.counters["Mtri/s"] = static_cast<double>(queries) * kTrianglesPerBox / seconds * 1e-6;
     state.counters["hidden"] = static_cast<double>(hidden) / static_cast<double>(queries);
   }
 }
@@ -261,9 +270,9 @@ const bool registered = [] {
     const std::string where = wall ? "wall" : kScene;
     configure(benchmark::RegisterBenchmark(("occlusion/rects/" + where).c_str(),
                                            [=](benchmark::State& st) { bench_rects(st, wall); }));
-    configure(benchmark::RegisterBenchmark(
-        ("occlusion/triangles/" + where).c_str(),
-        [=](benchmark::State& st) { bench_triangles(st, wall); }));
+    configure(
+        benchmark::RegisterBenchmark(("occlusion/triangles/" + where).c_str(),
+                                     [=](benchmark::State& st) { bench_triangles(st, wall); }));
   }
   return true;
 }();

@@ -14,11 +14,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <glm/gtc/matrix_transform.hpp>
 
 #include "mosaic/mosaic.hpp"
 #include "reference_test_util.hpp"
@@ -87,11 +86,16 @@ Occluders occlude(const Tris& occ, int w, int h, int samples, DepthTest test = D
 
 bool passes(DepthTest test, float z, float stored) {
   switch (test) {
-    case DepthTest::kLess: return z < stored;
-    case DepthTest::kLessEqual: return z <= stored;
-    case DepthTest::kGreater: return z > stored;
-    case DepthTest::kGreaterEqual: return z >= stored;
-    case DepthTest::kAlways: return true;
+    case DepthTest::kLess:
+      return z < stored;
+    case DepthTest::kLessEqual:
+      return z <= stored;
+    case DepthTest::kGreater:
+      return z > stored;
+    case DepthTest::kGreaterEqual:
+      return z >= stored;
+    case DepthTest::kAlways:
+      return true;
   }
   return true;
 }
@@ -204,7 +208,7 @@ TEST(Occlusion, QueryPeekingOutFromBehindAnOccluderIsVisible) {
   occ.add_rect(0, 0, 48, 64, 0.3f);  // the left half only, the right keeps the clear depth
   const Occluders o = occlude(occ, w, h, 1);
   EXPECT_FALSE(o.hiz.rect_visible({4, 4, 40, 60}, 0.5f));
-  EXPECT_TRUE(o.hiz.rect_visible({4, 4, 52, 60}, 0.5f));   // four pixels past the edge
+  EXPECT_TRUE(o.hiz.rect_visible({4, 4, 52, 60}, 0.5f));         // four pixels past the edge
   EXPECT_TRUE(o.hiz.rect_visible({47.5f, 4, 48.75f, 5}, 0.5f));  // a sliver across it
   Tris q;
   q.add({10, 10}, {40, 12}, {20, 50}, 0.5f, 0.5f, 0.5f);
@@ -315,8 +319,8 @@ TEST(Occlusion, RandomRectanglesAreConservativeAndExactAtBlockGranularity) {
       const float z = static_cast<float>(rng.uniform(0.2, 1.0));
       const bool visible = o.hiz.rect_visible(r, z);
       const bool truth = rect_truly_visible(o, r, z, DepthTest::kLess);
-      ASSERT_TRUE(visible || !truth) << "a visible rectangle reported hidden, scene " << scene
-                                     << " query " << q;
+      ASSERT_TRUE(visible || !truth)
+          << "a visible rectangle reported hidden, scene " << scene << " query " << q;
       // At block granularity the answer is exact: hidden iff the depth is no nearer than every
       // sample of every block meeting the rectangle on the screen.
       const int px0 = static_cast<int>(std::floor(r.x0)), py0 = static_cast<int>(std::floor(r.y0));
@@ -367,16 +371,15 @@ TEST(Occlusion, RandomTriangleListsAreConservative) {
       }
       const bool visible = o.hiz.draw_visible(t.draw());
       const bool truth = draw_truly_visible(o, t.draw());
-      ASSERT_TRUE(visible || !truth) << "a visible triangle list reported hidden, scene "
-                                     << scene << " query " << q;
+      ASSERT_TRUE(visible || !truth)
+          << "a visible triangle list reported hidden, scene " << scene << " query " << q;
       // Sufficient for "hidden" at block granularity: no vertex nearer than the farthest sample
       // of the blocks the triangles' (one-pixel-padded) bounding box touches.
       const bool on_screen = xmax > 0 && ymax > 0 && xmin < w && ymin < h;
-      if (on_screen &&
-          zmin >= farthest_in_blocks(o, static_cast<int>(std::floor(xmin)) - 1,
-                                     static_cast<int>(std::floor(ymin)) - 1,
-                                     static_cast<int>(std::floor(xmax)) + 1,
-                                     static_cast<int>(std::floor(ymax)) + 1)) {
+      if (on_screen && zmin >= farthest_in_blocks(o, static_cast<int>(std::floor(xmin)) - 1,
+                                                  static_cast<int>(std::floor(ymin)) - 1,
+                                                  static_cast<int>(std::floor(xmax)) + 1,
+                                                  static_cast<int>(std::floor(ymax)) + 1)) {
         ++must_hide;
         EXPECT_FALSE(visible) << "scene " << scene << " query " << q;
       }
@@ -385,11 +388,11 @@ TEST(Occlusion, RandomTriangleListsAreConservative) {
       reported_hidden += !visible;
     }
   }
-  std::printf("triangle lists: %zu queries, %zu truly hidden, %zu reported hidden (%.1f %%), "
-              "%zu hidden behind whole blocks\n",
-              total, truly_hidden, reported_hidden,
-              truly_hidden ? 100.0 * double(reported_hidden) / double(truly_hidden) : 0.0,
-              must_hide);
+  std::printf(
+      "triangle lists: %zu queries, %zu truly hidden, %zu reported hidden (%.1f %%), "
+      "%zu hidden behind whole blocks\n",
+      total, truly_hidden, reported_hidden,
+      truly_hidden ? 100.0 * double(reported_hidden) / double(truly_hidden) : 0.0, must_hide);
   ASSERT_GT(must_hide, 0u) << "no query fell behind whole blocks: the check checked nothing";
   ASSERT_GT(truly_hidden, total / 10) << "the scenes hide too little to measure anything";
 }

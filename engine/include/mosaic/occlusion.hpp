@@ -45,8 +45,7 @@ class HierarchicalZ {
   /// `nearest` is the query's nearest depth in the sense of the test: its smallest depth for
   /// kLess / kLessEqual, its largest for kGreater / kGreaterEqual (reversed Z). A rectangle
   /// entirely off the screen, or empty, is hidden; a NaN in the input answers visible.
-  bool rect_visible(const ScreenRect& rect, float nearest,
-                    DepthTest test = DepthTest::kLess) const;
+  bool rect_visible(const ScreenRect& rect, float nearest, DepthTest test = DepthTest::kLess) const;
 
   /// Whether any sample of the draw's triangles could pass its depth test
   /// (draw.state.depth_test, kLess by default) against the frame's depth. The draw is read as

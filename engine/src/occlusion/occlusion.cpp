@@ -12,8 +12,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "front/front_end.hpp"
 #include "frame_checks.hpp"
+#include "front/front_end.hpp"
 #include "raster/hiz.hpp"
 
 namespace mosaic {
@@ -89,8 +89,8 @@ bool HierarchicalZ::draw_visible(const Draw& draw) const {
         // leaves every sample of the block outside (the kernels' test, in exact int64).
         bool outside = false;
         for (const front::EdgeFunction& e : t.edge) {
-          const std::int64_t corner = e.a * (std::int64_t{px0} * kSubpixel) +
-                                      e.b * (std::int64_t{py0} * kSubpixel) + e.c;
+          const std::int64_t corner =
+              e.a * (std::int64_t{px0} * kSubpixel) + e.b * (std::int64_t{py0} * kSubpixel) + e.c;
           outside |= corner + std::max<std::int64_t>(0, e.a * kBlockSpan) +
                          std::max<std::int64_t>(0, e.b * kBlockSpan) <
                      0;

@@ -34,8 +34,7 @@ struct BlockDepthRange {
   std::pair<float, float> over(int px0, int py0, int w, int h, float lo, float hi) const {
     const double dx = px0 - x0, dy = py0 - y0, ew = w, eh = h;
     const double corner = base + ddx * dx + ddy * dy;
-    const double mag = std::abs(base) +
-                       std::abs(ddx) * std::max(std::abs(dx), std::abs(dx + ew)) +
+    const double mag = std::abs(base) + std::abs(ddx) * std::max(std::abs(dx), std::abs(dx + ew)) +
                        std::abs(ddy) * std::max(std::abs(dy), std::abs(dy + eh));
     const double margin = mag * kMarginScale;
     const double ex_lo = std::min(0.0, ddx * ew) + std::min(0.0, ddy * eh);
@@ -50,11 +49,16 @@ struct BlockDepthRange {
 /// NaN anywhere makes every comparison false, so the answer is "not hidden" (conservative).
 inline bool hiz_hidden(DepthTest test, float lo, float hi, float zmin, float zmax) {
   switch (test) {
-    case DepthTest::kLess: return lo >= zmax;
-    case DepthTest::kLessEqual: return lo > zmax;
-    case DepthTest::kGreater: return hi <= zmin;
-    case DepthTest::kGreaterEqual: return hi < zmin;
-    case DepthTest::kAlways: return false;
+    case DepthTest::kLess:
+      return lo >= zmax;
+    case DepthTest::kLessEqual:
+      return lo > zmax;
+    case DepthTest::kGreater:
+      return hi <= zmin;
+    case DepthTest::kGreaterEqual:
+      return hi < zmin;
+    case DepthTest::kAlways:
+      return false;
   }
   return false;
 }
