@@ -355,11 +355,15 @@ int compare(const std::vector<std::string>& files, int cores) {
   // (scene, samples) in the order first seen → one entry per run that has it.
   std::vector<std::pair<std::string, int>> keys;
   std::map<std::pair<std::string, int>, std::vector<Entry>> entries;
+  double load_min = 1e300, load_max = -1e300;  // load averages the runs started with
   for (const std::string& f : files) {
     std::ifstream in(f);
     if (!in) throw mosaic::Error(mosaic::Errc::kIo, "cannot read " + f);
     try {
       const json j = json::parse(in);
+      const double load = j.value("load_average", -1.0);
+      load_min = std::min(load_min, load);
+      load_max = std::max(load_max, load);
       for (const json& c : j.at("cases")) {
         const auto key =
             std::make_pair(c.at("scene").get<std::string>(), c.at("samples").get<int>());
@@ -417,6 +421,8 @@ int compare(const std::vector<std::string>& files, int cores) {
                   best->cpu_1t, best->wall_1t, best->wall_2t);
     summary += row;
   }
+  std::printf("%zu runs; load average at their start %.2f to %.2f.\n\n", files.size(), load_min,
+              load_max);
   std::printf(
       "Modelled %d-core frame (tiles in the renderer's order) per tile size, with the real "
       "1- and 2-thread frames of the same build:\n\n%s",
