@@ -52,6 +52,9 @@ constexpr int kDefaultFrames = 7;
 const std::vector<int> kDefaultCores{1, 2, 4, 8, 16, 64};
 // Relative tolerance of the invariant checks: the model only adds the costs, in other orders.
 constexpr double kSumTolerance = 1e-9;
+// CPU / wall of the 2-thread frames above which both cores count as free for them (a frame
+// also has serial parts, so a free machine gives less than 2).
+constexpr double kTwoCoresFree = 1.5;
 // The default tile edge (MOSAIC_TILE_SIZE), the reference column of --compare.
 constexpr int kDefaultTileSize = 64;
 
@@ -529,6 +532,7 @@ int main(int argc, char** argv) {
     rule += "|\n";
     std::string renderer_table = head + rule, lpt_table = head + rule;
     std::string limits;
+    std::vector<double> cores_used_2t;  // CPU / wall of each case's 2-thread frames
     std::string validation =
         "| scene | samples | model P=1 ms | real 1T CPU ms | real 1T ms | model P=2 ms | real 2T "
         "ms "
@@ -590,6 +594,7 @@ int main(int argc, char** argv) {
                       m2 > 0 ? c2 / m2 : 0.0, model2 > 0 ? one.ms() / model2 : 0.0,
                       m2 > 0 ? m1 / m2 : 0.0);
         validation += row;
+        cores_used_2t.push_back(m2 > 0 ? c2 / m2 : 0.0);
 
         // What limits it: one tile, the chunk count, or the stages that stay serial in time.
         std::string l = "- **" + what + "**: ";
@@ -671,6 +676,12 @@ int main(int argc, char** argv) {
         "time spent waiting for a core on a shared machine; CPU / wall near 2 means both cores "
         "were free):\n\n%s",
         validation.c_str());
+    if (const double used = median(cores_used_2t); used < kTwoCoresFree)
+      std::printf(
+          "\nThe 2-thread frames had %.2f cores on average (median CPU / wall): other work held "
+          "the "
+          "rest, so this run cannot check the model at P=2; run it on an idle machine.\n",
+          used);
     std::printf(
         "\nModelled frame on P cores, tiles in the renderer's order (busiest first by triangle "
         "count): ms (× speed-up over the modelled 1 core); **bold** where one tile bounds the "
