@@ -84,6 +84,38 @@ TEST(ApiErrors, RendererOptions) {
   }
 }
 
+// A moved-from Renderer has given its workers away: render() is a clear error that leaves the
+// target alone, its accessors answer as documented, and the Renderer it moved into still works.
+TEST(ApiErrors, MovedFromRenderer) {
+  for (Isa isa : available_isas()) {
+    SCOPED_TRACE(to_string(isa));
+    RendererOptions o;
+    o.isa = isa;
+    o.threads = 2;
+    Renderer from(o);
+    Renderer to(std::move(from));
+    Mesh m = test::screen_mesh();
+    test::add_tri(m, {1, 1}, {14, 2}, {3, 13}, {200, 30, 60, 255});
+    const Draw d = m.draw();
+    Frame f;
+    f.draws = std::span<const Draw>(&d, 1);
+    RenderTarget t(16, 16, 4);
+    const std::uint64_t cleared = t.image_hash();
+    expect_error(Errc::kInvalidArgument, [&] { from.render(f, t); });  // NOLINT(bugprone-use-after-move)
+    EXPECT_EQ(t.image_hash(), cleared);
+    EXPECT_EQ(from.isa(), Isa::kReference);
+    EXPECT_EQ(from.threads(), 0);
+    EXPECT_TRUE(from.hierarchical_z().empty());
+    EXPECT_EQ(to.isa(), isa);
+    EXPECT_EQ(to.render(f, t).triangles_drawn, 1u);
+    EXPECT_NE(t.image_hash(), cleared);
+    // Assigning a live Renderer to the moved-from one makes it whole again.
+    from = Renderer(o);
+    EXPECT_EQ(from.isa(), isa);
+    EXPECT_EQ(from.render(f, t).triangles_drawn, 1u);
+  }
+}
+
 // A frame rendered first, then a bad one: the bad one must throw the expected code from every
 // renderer and leave the target's image and sample buffers as the good frame left them.
 class BadDraw : public ::testing::Test {

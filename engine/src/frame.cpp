@@ -148,16 +148,26 @@ Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
-Isa Renderer::isa() const noexcept { return impl_->isa; }
-int Renderer::threads() const noexcept { return impl_->isa == Isa::kReference ? 1 : impl_->threads; }
+// A moved-from Renderer has no Impl. Its accessors answer as documented in renderer.hpp and its
+// render() throws, so a use after std::move is a clear error instead of a null dereference.
+Isa Renderer::isa() const noexcept { return impl_ ? impl_->isa : Isa::kReference; }
+int Renderer::threads() const noexcept {
+  if (!impl_) return 0;
+  return impl_->isa == Isa::kReference ? 1 : impl_->threads;
+}
 
 FrameStats Renderer::render(const Frame& frame, RenderTarget& target) {
+  if (!impl_)
+    throw Error(Errc::kInvalidArgument, "render() called on a moved-from Renderer");
   validate(frame, target);
   if (impl_->isa == Isa::kReference) return impl_->render_reference(frame, target);
   return impl_->render_fast(frame, target);
 }
 
-const HierarchicalZ& Renderer::hierarchical_z() const noexcept { return impl_->hiz; }
+const HierarchicalZ& Renderer::hierarchical_z() const noexcept {
+  static const HierarchicalZ kNone;  // what a moved-from Renderer answers: no bounds kept
+  return impl_ ? impl_->hiz : kNone;
+}
 
 FrameStats Renderer::Impl::render_reference(const Frame& frame, RenderTarget& target) {
   if (!frame.keep_hierarchical_z) {

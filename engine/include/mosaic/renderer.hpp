@@ -20,6 +20,8 @@ namespace mosaic {
 
 /// A frame: draws in submission order, and how they are shaded and ordered.
 struct Frame {
+  /// The draws. Every sample sees their triangles in this order (draw by draw, triangle by
+  /// triangle), whatever the thread count. Only viewed: the buffers must outlive render().
   std::span<const Draw> draws;
   /// SSAA: colour is evaluated at every sample instead of once per pixel (MSAA).
   bool ssaa = false;
@@ -98,10 +100,15 @@ inline constexpr int kMaxThreads = 1024;
 class Renderer {
  public:
   /// Throws Error{kUnsupportedIsa} if options.isa cannot run here, and Error{kInvalidArgument}
-  /// for a negative thread count.
+  /// for a thread count outside 0..kMaxThreads.
   explicit Renderer(RendererOptions options = {});
+  /// Releases the worker arena and per-frame memory (and oneTBB's raised worker cap, if any).
   ~Renderer();
+  /// Moves the workers and memory; the moved-from Renderer may only be destroyed, assigned
+  /// to, or queried: its render() throws Error{kInvalidArgument}, isa() answers kReference,
+  /// threads() 0, and hierarchical_z() is empty.
   Renderer(Renderer&&) noexcept;
+  /// As the move constructor.
   Renderer& operator=(Renderer&&) noexcept;
 
   /// Renders one frame: clear, draws, resolve. Validates every draw first and throws
@@ -115,6 +122,8 @@ class Renderer {
 
   /// The path render() uses (never kAuto).
   Isa isa() const noexcept;
+  /// Worker threads render() uses: RendererOptions::threads, or the hardware thread count for
+  /// 0; always 1 for Isa::kReference, which is single-threaded.
   int threads() const noexcept;
 
  private:
