@@ -21,6 +21,8 @@ packages=(
   libgl-dev             # OpenGL headers (GL/glcorearb.h) and libOpenGL
   libfftw3-dev          # FFTW: spectra and aliasing energy in `mosaic report`
   libgmp-dev            # GMP rationals: exact triangle-pixel areas, the ground truth of `mosaic report`
+  clang-14              # .ci/fuzz.sh: libFuzzer needs clang (GCC has no -fsanitize=fuzzer)
+  libclang-rt-14-dev    # clang's runtime libraries: libFuzzer, ASan and UBSan for clang-14
 )
 
 missing=()
