@@ -9,8 +9,6 @@
 // glm::vec4). Every multiple of 1/256 px below 2^15 px is exact in float, so files meant to be
 // reproduced exactly are; a coordinate with more significant bits than float holds is rounded
 // to the nearest float before the renderer snaps it to 1/256 px.
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -28,6 +26,7 @@
 #include <vector>
 
 #include "front/setup.hpp"
+#include "io/write_file.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/renderer.hpp"
 #include "mosaic/scene.hpp"
@@ -179,37 +178,6 @@ void append_coordinate(std::string& out, double v, bool exact_float) {
     append_number(out, static_cast<float>(v));
   } else {
     append_number(out, v);
-  }
-}
-
-/// Writes `bytes` to a new temporary file next to `path` and renames it over `path`, so a
-/// failure never leaves a truncated file behind. Throws Error{kIo}.
-void write_file_replacing(const std::filesystem::path& path, const std::string& bytes) {
-  const std::string file = path.string();
-  // A hidden name with mkstemp's unique suffix. (Built with += because GCC 12 reports a false
-  // -Wrestrict on `"." + std::string` at -O3.)
-  std::string tmp_name(".");
-  tmp_name += path.filename().string();
-  tmp_name += ".XXXXXX";
-  std::string tmp = (path.parent_path() / tmp_name).string();
-  const int fd = ::mkstemp(tmp.data());
-  if (fd < 0) throw Error(Errc::kIo, file + ": cannot write: " + std::strerror(errno));
-  std::size_t done = 0;
-  int err = 0;
-  while (done < bytes.size() && err == 0) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno != EINTR) err = errno;
-    if (n > 0) done += static_cast<std::size_t>(n);
-  }
-  // mkstemp creates the file 0600; rw-r--r-- is the usual mode of a file a user writes (reading
-  // the umask would mean changing it, which races with other threads).
-  constexpr mode_t kFileMode = 0644;
-  if (err == 0 && ::fchmod(fd, kFileMode) != 0) err = errno;
-  if (::close(fd) != 0 && err == 0) err = errno;
-  if (err == 0 && std::rename(tmp.c_str(), file.c_str()) != 0) err = errno;
-  if (err != 0) {
-    ::unlink(tmp.c_str());
-    throw Error(Errc::kIo, file + ": cannot write: " + std::strerror(err));
   }
 }
 
@@ -397,7 +365,7 @@ void save_tris(const Scene& scene, const std::filesystem::path& path) {
     }
   }
 
-  write_file_replacing(path, out);
+  io::write_file_replacing(path, out);
 }
 
 }  // namespace mosaic
