@@ -31,8 +31,11 @@
 #include <vector>
 
 #include "mosaic/mosaic.hpp"
+#include "scenes/rng.hpp"
 
 namespace {
+
+using Rng = mosaic::SplitMix64;
 
 using Clock = std::chrono::steady_clock;
 
@@ -124,18 +127,6 @@ void bench_frame(benchmark::State& state, Variant v, int samples, mosaic::Isa is
   }
   state.SetLabel(mosaic::to_string(renderer.isa()));
 }
-
-/// splitmix64, for query positions independent of any standard library.
-struct Rng {
-  std::uint64_t s;
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * double(next() >> 11) * 0x1p-53; }
-};
 
 /// The hierarchical z the queries run against: the depth-only random-small pass, or a
 /// full-screen wall at depth 0.25 (the queries lie at 0.3–1: all hidden).

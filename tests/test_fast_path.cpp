@@ -8,29 +8,18 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <glm/gtc/matrix_transform.hpp>
 #include <string>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "mosaic/mosaic.hpp"
+#include "scenes/rng.hpp"
 
 namespace {
 
-using mosaic::Isa;
+using Rng = mosaic::SplitMix64;
 
-// splitmix64: a tiny deterministic generator, identical on every standard library.
-struct Rng {
-  std::uint64_t s;
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * double(next() >> 11) * 0x1p-53; }
-  std::uint8_t byte() { return static_cast<std::uint8_t>(next()); }
-};
+using mosaic::Isa;
 
 enum class Shape { kSmall, kLarge, kSliver, kHuge, kClipSpace, kOnSamples };
 
@@ -52,12 +41,24 @@ TestScene make_scene(Shape shape, int w, int h, int count, std::uint64_t seed, b
     double cx = rng.uniform(-0.1 * w, 1.1 * w), cy = rng.uniform(-0.1 * h, 1.1 * h);
     double r = 0;
     switch (shape) {
-      case Shape::kSmall: r = rng.uniform(1, 8); break;
-      case Shape::kLarge: r = rng.uniform(0.2, 0.8) * w; break;
-      case Shape::kSliver: r = rng.uniform(20, 200); break;
-      case Shape::kHuge: r = rng.uniform(3e3, 1e6); break;
-      case Shape::kClipSpace: r = 0; break;
-      case Shape::kOnSamples: r = rng.uniform(1, 20); break;
+      case Shape::kSmall:
+        r = rng.uniform(1, 8);
+        break;
+      case Shape::kLarge:
+        r = rng.uniform(0.2, 0.8) * w;
+        break;
+      case Shape::kSliver:
+        r = rng.uniform(20, 200);
+        break;
+      case Shape::kHuge:
+        r = rng.uniform(3e3, 1e6);
+        break;
+      case Shape::kClipSpace:
+        r = 0;
+        break;
+      case Shape::kOnSamples:
+        r = rng.uniform(1, 20);
+        break;
     }
     const double z = rng.uniform(0, 1);
     for (int k = 0; k < 3; ++k) {
@@ -75,7 +76,10 @@ TestScene make_scene(Shape shape, int w, int h, int count, std::uint64_t seed, b
         double x = std::floor(cx + rng.uniform(-r, r)) + 0.5 + o[0] / 16.0;
         double y = std::floor(cy + rng.uniform(-r, r)) + 0.5 + o[1] / 16.0;
         if (k > 0 && (rng.next() % 3) == 0) {
-          if (rng.next() & 1) x = sc.positions.back().x; else y = sc.positions.back().y;
+          if (rng.next() & 1)
+            x = sc.positions.back().x;
+          else
+            y = sc.positions.back().y;
         }
         p = glm::vec4(x, y, static_cast<float>(z), 1);
       } else if (shape == Shape::kSliver) {
@@ -158,8 +162,11 @@ struct Case {
   const char* name;
 };
 
-constexpr Case kCases[] = {{Shape::kOnSamples, 400, "on-samples"}, {Shape::kSmall, 600, "small"},   {Shape::kLarge, 12, "large"},
-                           {Shape::kSliver, 80, "sliver"},  {Shape::kHuge, 10, "huge"},
+constexpr Case kCases[] = {{Shape::kOnSamples, 400, "on-samples"},
+                           {Shape::kSmall, 600, "small"},
+                           {Shape::kLarge, 12, "large"},
+                           {Shape::kSliver, 80, "sliver"},
+                           {Shape::kHuge, 10, "huge"},
                            {Shape::kClipSpace, 60, "clip"}};
 
 TEST(FastPath, IdenticalToReferenceEverySimdPathSampleCountAndFillRule) {
@@ -177,9 +184,10 @@ TEST(FastPath, IdenticalToReferenceEverySimdPathSampleCountAndFillRule) {
         const Result ref = render(sc, w, h, samples, Isa::kReference, 1, st);
         for (Isa isa : isas) {
           const Result fast = render(sc, w, h, samples, isa, 2, st);
-          expect_same(ref, fast, std::string(c.name) + " " + std::to_string(samples) + "x " +
-                                     mosaic::to_string(isa) +
-                                     (rule == mosaic::FillRule::kD3D ? " d3d" : " gl"));
+          expect_same(ref, fast,
+                      std::string(c.name) + " " + std::to_string(samples) + "x " +
+                          mosaic::to_string(isa) +
+                          (rule == mosaic::FillRule::kD3D ? " d3d" : " gl"));
         }
       }
     }
@@ -209,7 +217,8 @@ TEST(FastPath, IdenticalToReferenceForEveryDepthModeSsaaAndPainter) {
   }
   const TestScene sc = make_scene(Shape::kLarge, w, h, 20, 7, false);
   const Result ref = render(sc, w, h, 4, Isa::kReference, 1, {}, false, true);
-  for (Isa isa : simd_isas()) expect_same(ref, render(sc, w, h, 4, isa, 2, {}, false, true), "painter");
+  for (Isa isa : simd_isas())
+    expect_same(ref, render(sc, w, h, 4, isa, 2, {}, false, true), "painter");
 }
 
 TEST(FastPath, DeterministicAcrossThreadCounts) {
@@ -361,10 +370,9 @@ TEST(FastPath, DepthOnlyDrawsAmongColourDrawsMatchReference) {
           states[i].depth_write = i != 2;
           states[i].color_write = i != 1;
         }
-        const float cd = test == mosaic::DepthTest::kGreater ||
-                                 test == mosaic::DepthTest::kGreaterEqual
-                             ? 0.f
-                             : 1.f;
+        const float cd =
+            test == mosaic::DepthTest::kGreater || test == mosaic::DepthTest::kGreaterEqual ? 0.f
+                                                                                            : 1.f;
         const MultiResult ref = render_draws(sc, w, h, samples, Isa::kReference, states,
                                              {true, true}, ssaa, {10, 20, 30, 255}, cd);
         for (Isa isa : simd_isas())
@@ -372,8 +380,8 @@ TEST(FastPath, DepthOnlyDrawsAmongColourDrawsMatchReference) {
                             render_draws(sc, w, h, samples, isa, states, {true, true}, ssaa,
                                          {10, 20, 30, 255}, cd),
                             "mixed depth-only test " + std::to_string(int(test)) + " " +
-                                std::to_string(samples) + "x ssaa " + std::to_string(ssaa) +
-                                " " + mosaic::to_string(isa));
+                                std::to_string(samples) + "x ssaa " + std::to_string(ssaa) + " " +
+                                mosaic::to_string(isa));
       }
     }
   }
@@ -387,8 +395,7 @@ TEST(FastPath, DepthOnlyFrameKeepsNoColourAndMatchesReference) {
   std::uint64_t seed = 400;
   for (int samples : {1, 4, 8}) {
     for (Shape shape : {Shape::kSmall, Shape::kLarge, Shape::kClipSpace}) {
-      const TestScene sc = make_scene(shape, w, h, shape == Shape::kLarge ? 20 : 300, seed++,
-                                      true);
+      const TestScene sc = make_scene(shape, w, h, shape == Shape::kLarge ? 20 : 300, seed++, true);
       std::vector<mosaic::DrawState> states(2);
       states[0].color_write = states[1].color_write = false;
       states[1].depth_test = mosaic::DepthTest::kLessEqual;
@@ -397,8 +404,8 @@ TEST(FastPath, DepthOnlyFrameKeepsNoColourAndMatchesReference) {
           render_draws(sc, w, h, samples, Isa::kReference, states, depth_only, false);
       for (const mosaic::Rgba8& c : ref.r.color) ASSERT_EQ(c, (mosaic::Rgba8{10, 20, 30, 255}));
       for (Isa isa : simd_isas()) {
-        const std::string what = "depth-only frame " + std::to_string(samples) + "x " +
-                                 mosaic::to_string(isa);
+        const std::string what =
+            "depth-only frame " + std::to_string(samples) + "x " + mosaic::to_string(isa);
         expect_same_multi(ref, render_draws(sc, w, h, samples, isa, states, depth_only, false),
                           what);
         // A colour frame, then the depth-only frame into the same target with another clear
@@ -408,8 +415,8 @@ TEST(FastPath, DepthOnlyFrameKeepsNoColourAndMatchesReference) {
         render_draws(sc, w, h, samples, isa, colour, depth_only, false, {10, 20, 30, 255}, 1.f,
                      &target);
         for (int pass = 0; pass < 2; ++pass) {
-          const MultiResult again = render_draws(sc, w, h, samples, isa, states, depth_only,
-                                                 false, {1, 2, 3, 4}, 1.f, &target);
+          const MultiResult again = render_draws(sc, w, h, samples, isa, states, depth_only, false,
+                                                 {1, 2, 3, 4}, 1.f, &target);
           std::size_t bad = 0;
           for (const mosaic::Rgba8& c : again.r.color) bad += !(c == mosaic::Rgba8{1, 2, 3, 4});
           EXPECT_EQ(bad, 0u) << what << " after a colour frame, pass " << pass;
@@ -464,8 +471,7 @@ TEST(FastPath, HierarchicalZIsExactOnEveryPathAndEmptyWhenNotAsked) {
           }
       for (int r : reached) ASSERT_EQ(r, 3);
       for (Isa isa : simd_isas())
-        expect_same_multi(ref,
-                          render_draws(sc, w, h, samples, isa, states, {true, false}, false),
+        expect_same_multi(ref, render_draws(sc, w, h, samples, isa, states, {true, false}, false),
                           "hi-z " + std::to_string(samples) + "x " + mosaic::to_string(isa));
     }
   }

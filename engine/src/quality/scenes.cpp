@@ -13,9 +13,12 @@
 #include "front/setup.hpp"
 #include "mosaic/errors.hpp"
 #include "quality/quality.hpp"
+#include "scenes/rng.hpp"
 
 namespace mosaic::quality {
 namespace {
+
+using Rng = mosaic::SplitMix64;
 
 constexpr double kPi = 3.14159265358979323846;
 /// Outer radius of the zone plate over the shorter image side: a margin of 2 % each side.
@@ -39,30 +42,6 @@ constexpr double kOverlapSize = 0.3;
 constexpr std::uint8_t kOpaque = 255;
 /// Grey background of the mesh and overlap scenes: both black and white edges show.
 constexpr std::uint8_t kGrey = 128;
-
-/// splitmix64: a tiny deterministic generator, the same sequence everywhere.
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in [lo, hi) from 53 random bits.
-  double uniform(double lo, double hi) {
-    return lo + (hi - lo) * (static_cast<double>(next() >> 11) * 0x1.0p-53);
-  }
-  Rgba8 color() {
-    const std::uint64_t r = next();
-    return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(r >> 8),
-            static_cast<std::uint8_t>(r >> 16), kOpaque};
-  }
-
- private:
-  std::uint64_t state_;
-};
 
 /// A position snapped to 1/256 px, as a float that holds it exactly (|x| < 2^15 px).
 glm::vec4 snapped(double x, double y, float z = 0.5f) {

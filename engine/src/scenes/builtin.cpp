@@ -23,9 +23,12 @@
 #include "mosaic/errors.hpp"
 #include "mosaic/scene.hpp"
 #include "raster/sample_patterns.hpp"
+#include "scenes/rng.hpp"
 
 namespace mosaic {
 namespace {
+
+using Rng = mosaic::SplitMix64;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwoPi = 2.0 * kPi;
@@ -33,32 +36,6 @@ constexpr double kTwoPi = 2.0 * kPi;
 constexpr int kSeriesTerms = 20;
 /// Alpha of every built-in colour: the renderer does not blend.
 constexpr std::uint8_t kOpaque = 255;
-
-/// splitmix64 (Steele, Lea, Flood 2014): tiny, fast, and the same sequence everywhere.
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in [0, 1) with 53 random bits.
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  /// Uniform depth in [0, 1) on a 2^-24 grid: exact in float, and never 1 (the clear depth,
-  /// which the default depth test would reject).
-  float depth() { return static_cast<float>(next() >> 40) * 0x1.0p-24f; }
-  Rgba8 color() {
-    const std::uint64_t r = next();
-    return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(r >> 8),
-            static_cast<std::uint8_t>(r >> 16), kOpaque};
-  }
-
- private:
-  std::uint64_t state_;
-};
 
 /// sin and cos of x (any finite x), the same bits on every platform; accurate to ~1e-15.
 glm::dvec2 cos_sin(double x) {

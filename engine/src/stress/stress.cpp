@@ -15,9 +15,13 @@
 
 #include "front/fixed_point.hpp"
 #include "mosaic/errors.hpp"
+#include "raster/sample_patterns.hpp"
+#include "scenes/rng.hpp"
 
 namespace mosaic::stress {
 namespace {
+
+using Rng = mosaic::SplitMix64;
 
 // ---- Constants ---------------------------------------------------------------------------------
 
@@ -35,51 +39,11 @@ constexpr double kMaxFarFactor = 1e30;
 /// A 10,000 px needle, the longest sliver the issue names.
 constexpr double kNeedleLengthPx = 10000;
 
-// splitmix64: a tiny generator that is identical on every standard library, so a seed names the
-// same case everywhere.
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : s_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in [0, 1).
-  double unit() { return static_cast<double>(next() >> 11) * 0x1p-53; }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * unit(); }
-  /// Uniform integer in [lo, hi].
-  int range(int lo, int hi) {
-    return lo + static_cast<int>(next() % static_cast<std::uint64_t>(hi - lo + 1));
-  }
-  bool chance(double p) { return unit() < p; }
-  /// Log-uniform in [lo, hi] (both > 0).
-  double log_uniform(double lo, double hi) { return std::exp(uniform(std::log(lo), std::log(hi))); }
-
- private:
-  std::uint64_t s_;
-};
-
-// The standard sample positions in 1/16 px from the pixel centre (DESIGN.md; the Vulkan standard
-// locations), written out here again so that fans can be centred on samples.
+// A sample's offset in 1/16 px from the pixel centre (raster/sample_patterns.hpp), so that fans
+// can be centred exactly on samples.
 std::array<int, 2> sample_offset16(int samples, int s) {
-  static constexpr int k4[4][2] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
-  static constexpr int k8[8][2] = {{1, -3}, {-1, 3},  {5, 1}, {-3, -5},
-                                   {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
-  static constexpr int k16[16][2] = {{1, 1},  {-1, -3}, {-3, 2}, {4, -1}, {-5, -2}, {2, 5},
-                                     {5, 3},  {3, -5},  {-2, 6}, {0, -7}, {-4, -6}, {-6, 4},
-                                     {-8, 0}, {7, -4},  {6, 7},  {-7, -8}};
-  switch (samples) {
-    case 4:
-      return {k4[s][0], k4[s][1]};
-    case 8:
-      return {k8[s][0], k8[s][1]};
-    case 16:
-      return {k16[s][0], k16[s][1]};
-    default:
-      return {0, 0};
-  }
+  const raster::SampleOffset o = raster::sample_pattern(samples)[static_cast<std::size_t>(s)];
+  return {o.dx, o.dy};
 }
 
 // Rounds to the 1/256 px grid or the 1/16 px grid (where samples lie), or leaves the value.
