@@ -14,10 +14,8 @@ seconds=${MOSAIC_FUZZ_SECONDS:-60}
 jobs=${MOSAIC_JOBS:-2}
 
 start=$(date +%s)
-CXX=clang++-14 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DMOSAIC_FUZZ=ON -DMOSAIC_BUILD_TESTS=OFF -DMOSAIC_BUILD_BENCH=OFF \
-  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
-  >/dev/null
+# The fuzz preset (CMakePresets.json): clang-14, ASan + UBSan + libFuzzer instrumentation.
+cmake --preset fuzz -B "$build" >/dev/null
 cmake --build "$build" -j "$jobs" --target fuzz_scene_parsers fuzz_pipeline
 echo "fuzz.sh: build took $(($(date +%s) - start)) s"
 
