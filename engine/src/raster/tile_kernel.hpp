@@ -54,6 +54,9 @@ struct TileKernelImpl {
   /// Vectors until the lanes' pixel columns repeat, and the rows that period advances by.
   static constexpr int kPeriod = L >= kBlockSize ? 1 : kBlockSize / L;
   static constexpr int kPeriodRows = L >= kBlockSize ? L / kBlockSize : 1;
+  /// Samples whose vectors fit one 64-bit word of (sample, vector) bits.
+  static constexpr int kGroup = 64 / kVectors;
+  static_assert(kVectors <= 32 && kGroup >= 1);
 
   /// Lane l of vector v holds pixel p = v * L + l of the block: column p % 8, row p / 8.
   static I lane_col(int v) {
@@ -226,6 +229,13 @@ struct TileKernelImpl {
       const I rows_down(static_cast<std::int32_t>(b[e] * kSubpixel * kPeriodRows));
       for (int v = kPeriod; v < kVectors; ++v) eoff[e][v] = eoff[e][v - kPeriod] + rows_down;
     }
+    // Each edge's offset from a pixel's corner to each of its samples, mod 2^32 like eoff.
+    std::uint32_t soff[3][kMaxSamples];
+    for (int s = 0; s < S; ++s) {
+      // (One sample per pixel: at the centre, kHalf from the corner on both axes.)
+      const std::int64_t sx = kS1 ? kHalf : cx.soff[0][s], sy = kS1 ? kHalf : cx.soff[1][s];
+      for (int e = 0; e < 3; ++e) soff[e][s] = static_cast<std::uint32_t>(sx * a[e] + sy * b[e]);
+    }
     const float tlo = t.z_min, thi = t.z_max;
     const F x0(t.x0), y0(t.y0), zb(t.z.base), zdx(t.z.ddx), zdy(t.z.ddy), zlo(tlo), zhi(thi);
     [[maybe_unused]] const I flat_color(bits_of(t.color));
@@ -255,10 +265,6 @@ struct TileKernelImpl {
           row_e = static_cast<int>(std::min<std::int64_t>(row_e, floor_div(num, den) + 1));
         }
       }
-      // Pixel rows of this block row that the bounding box touches, and the vectors holding them.
-      const int r0 = std::max(0, y_lo - py0), r1 = std::min(kBlockSize, y_hi - py0);
-      const int v_begin = (r0 * kBlockSize) / L;
-      const int v_end = (r1 * kBlockSize + L - 1) / L;
       const F fy_row = F(static_cast<float>(py0));
 
       // Edge functions at the corner of block row_b, stepped by one block along the row.
@@ -296,40 +302,51 @@ struct TileKernelImpl {
         const bool test = hz == 0;
         if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
 
-        // 3–5. Coverage, depth test and writes, one sample and one vector of pixels at a time.
+        // 3–5. Coverage, depth test and writes. The coverage of a group of samples is built first,
+        // every vector of the block without a branch; then only the (sample, vector) pairs holding
+        // a covered sample are visited, in sample-major order, one bit of `act` each. Looping over
+        // the box's rows and branching on empty vectors mispredicted 40 branches per triangle and
+        // tile, this 10 (cachegrind branch simulation, random-small 4x, AVX2: 4.9M -> 1.3M).
+        // (Folding coverage into the depth loop, one vector at a time, measured 7-11 % more
+        // instructions, callgrind, AVX2.)
         float* dblk = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
         [[maybe_unused]] std::uint32_t* cblk =
             kColor ? cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels : nullptr;
         const F fx_blk = F(static_cast<float>(px0));
         [[maybe_unused]] I pixel_color[kVectors];
         [[maybe_unused]] std::uint32_t shaded = 0;
-        std::uint64_t tested = 0, written = 0, covered = 0;
-        for (int s = 0; s < S; ++s) {
-          std::uint64_t m;
-          if (all_in) {
-            m = valid;
-          } else if (fits32) {
-            // (One sample per pixel: at the centre, kHalf from the corner on both axes.)
-            const std::int64_t sx = kS1 ? kHalf : cx.soff[0][s], sy = kS1 ? kHalf : cx.soff[1][s];
-            const I b0(static_cast<std::int32_t>(eorg[0] + sx * a[0] + sy * b[0]));
-            const I b1(static_cast<std::int32_t>(eorg[1] + sx * a[1] + sy * b[1]));
-            const I b2(static_cast<std::int32_t>(eorg[2] + sx * a[2] + sy * b[2]));
-            m = 0;
-            for (int v = v_begin; v < v_end; ++v) {
-              const I e = (b0 + eoff[0][v]) | (b1 + eoff[1][v]) | (b2 + eoff[2][v]);
-              m |= std::uint64_t{M::bits(e >= I(0))} << (v * L);
+        // A block the hierarchical z accepts passes every covered sample without the test.
+        const std::uint32_t keep = test ? 0u : kLaneBits;
+        std::uint64_t written = 0, covered = 0;
+        std::uint64_t cov[kMaxSamples];
+        for (std::size_t s0 = 0; s0 < static_cast<std::size_t>(S); s0 += kGroup) {
+          const std::size_t s1 = std::min<std::size_t>(S, s0 + kGroup);
+          std::uint64_t act = 0;
+          for (std::size_t s = s0; s < s1; ++s) {
+            std::uint64_t m;
+            if (all_in) {
+              m = valid;
+            } else if (fits32) {
+              // Edge values at this sample of the block's first pixel (exact: fits32), mod 2^32.
+              const I b0(
+                  static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[0]) + soff[0][s]));
+              const I b1(
+                  static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[1]) + soff[1][s]));
+              const I b2(
+                  static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[2]) + soff[2][s]));
+              m = coverage32(b0, b1, b2, eoff) & valid;
+            } else {
+              m = coverage_int64(t, cx.pattern[s], px0, py0) & valid;
             }
-            m &= valid;
-          } else {
-            m = coverage_int64(t, cx.pattern[s], px0, py0) & valid;
+            cov[s] = m;
+            covered += static_cast<std::uint64_t>(std::popcount(m));
+            act |= std::uint64_t{vectors_with_lanes(m)} << ((s - s0) * kVectors);
           }
-          // The mask is built for the whole block first: folding coverage into the depth loop
-          // below, one vector at a time, measured 7-11 % more instructions (callgrind, AVX2).
-          if (!m) continue;
-          covered += static_cast<std::uint64_t>(std::popcount(m));
-          for (int v = v_begin; v < v_end; ++v) {
-            const std::uint32_t lanes = static_cast<std::uint32_t>(m >> (v * L)) & kLaneBits;
-            if (!lanes) continue;
+          for (; act; act &= act - 1) {
+            // Vector i of the group is vector v of sample s: s * kBlockPixels + v * L = i * L.
+            const std::size_t i = static_cast<std::size_t>(std::countr_zero(act));
+            const std::size_t s = s0 + i / kVectors, v = i % kVectors;
+            const std::uint32_t lanes = lanes_of(cov, s0 * kVectors + i);
             // Sample positions in pixels (exact in float), then the depth plane of the
             // reference: (base + ddx * (x - x0)) + ddy * (y - y0), clamped.
             const F cxp = fx_blk + cx.colf[v], cyp = fy_row + cx.rowf[v];
@@ -337,21 +354,19 @@ struct TileKernelImpl {
             const F zr = (zb + zdx * (fx - x0)) + zdy * (fy - y0);
             const F zc = xsimd::select(zr > zlo, zr, zlo);
             const F z = xsimd::select(zc < zhi, zc, zhi);
-            float* dp = dblk + s * kBlockPixels + v * L;
+            float* dp = dblk + (s0 * kVectors + i) * L;
             std::uint32_t pass = lanes;
             if constexpr (kTest != DepthTest::kAlways || kWrite) {
               const F stored = F::load_aligned(dp);
-              if constexpr (kTest != DepthTest::kAlways) {
-                if (test) pass &= passes<kTest>(z, stored);
-              }
-              if (!pass) {
-                tested += static_cast<std::uint64_t>(std::popcount(lanes));
-                continue;
-              }
+              if constexpr (kTest != DepthTest::kAlways) pass &= passes<kTest>(z, stored) | keep;
+              // (A lane outside `pass` stores back what it loaded.)
               if constexpr (kWrite) xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
             }
-            tested += static_cast<std::uint64_t>(std::popcount(lanes));
             written += static_cast<std::uint64_t>(std::popcount(pass));
+            // Flat colour stores under the mask whatever it is; a shaded colour is worth a branch.
+            if constexpr (kColor && !kFlat) {
+              if (!pass) continue;
+            }
             if constexpr (kColor) {  // a depth-only draw shades nothing and leaves colour alone
               I color;
               if constexpr (kFlat) {
@@ -370,6 +385,8 @@ struct TileKernelImpl {
             }
           }
         }
+        // Every covered sample of a block hierarchical z did not reject reaches the depth test.
+        const std::uint64_t tested = covered;
         cx.st.samples_tested += tested;
         cx.st.samples_written += written;
 
@@ -397,6 +414,62 @@ struct TileKernelImpl {
           cx.tile_z_loose |= zmn > old_lo || zmx < old_hi;
         }
       }
+    }
+  }
+
+  // Coverage of one sample of a block from the edge values b0..b2 at that sample of its first
+  // pixel, exact in int32 (the block passed fits32): bit p set where pixel p's sample is inside.
+  // A value is negative, outside its edge, where its sign bit is set, so the OR of the three has
+  // its sign bit set exactly where the sample is outside: no comparison is needed. Every vector of
+  // the block is computed, rows outside the triangle's box too (they come out empty): a fixed
+  // trip count has no branch to mispredict.
+  static std::uint64_t coverage32(I b0, I b1, I b2, const I (&eoff)[3][kVectors]) {
+    std::uint64_t outside = 0;
+    for (int v = 0; v < kVectors; ++v)
+      outside |= std::uint64_t{M::signs((b0 + eoff[0][v]) | (b1 + eoff[1][v]) | (b2 + eoff[2][v]))}
+                 << (v * L);
+    return ~outside;
+  }
+
+  // Lanes of vector k of a block's coverage words, counting vectors across samples: bits
+  // k * L .. k * L + L - 1 of the words laid end to end (little-endian), one load.
+  static std::uint32_t lanes_of(const std::uint64_t* cov, std::size_t k) {
+    static_assert(std::endian::native == std::endian::little);
+    const unsigned char* bytes = reinterpret_cast<const unsigned char*>(cov);
+    if constexpr (L == 16) {
+      std::uint16_t w;
+      std::memcpy(&w, bytes + 2 * k, sizeof w);
+      return w;
+    } else if constexpr (L == 8) {
+      return bytes[k];
+    } else {
+      static_assert(L == 4);
+      return (bytes[k / 2] >> (4 * (k % 2))) & kLaneBits;
+    }
+  }
+
+  // Bit v set where vector v of a coverage word (lanes v * L .. v * L + L - 1) has a lane set.
+  // For 8 and 16 lanes: OR each lane group into its lowest bit, then one multiplication moves
+  // the group bits side by side into the top bits (the multiplier's other partial products land
+  // on distinct lower bits, so nothing carries into them). Four lanes take one test per vector.
+  static std::uint32_t vectors_with_lanes(std::uint64_t m) {
+    if constexpr (L == 16) {
+      m |= m >> 8;
+      m |= m >> 4;
+      m |= m >> 2;
+      m |= m >> 1;
+      constexpr std::uint64_t kGather = 0x0001000200040008;  // 2^48 + 2^33 + 2^18 + 2^3
+      return static_cast<std::uint32_t>(((m & 0x0001000100010001) * kGather) >> 48);
+    } else if constexpr (L == 8) {
+      m |= m >> 4;
+      m |= m >> 2;
+      m |= m >> 1;
+      constexpr std::uint64_t kGather = 0x0102040810204080;  // sum of 2^(56 - 7j), j < 8
+      return static_cast<std::uint32_t>(((m & 0x0101010101010101) * kGather) >> 56);
+    } else {
+      std::uint32_t a = 0;
+      for (int v = 0; v < kVectors; ++v) a |= std::uint32_t{((m >> (v * L)) & kLaneBits) != 0} << v;
+      return a;
     }
   }
 
