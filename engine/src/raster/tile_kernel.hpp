@@ -592,7 +592,10 @@ struct TileKernelImpl {
     const TileRect& tile = cx.tile;
     const int S = f.samples;
     const int shift = std::countr_zero(static_cast<unsigned>(S));
-    const I round(S / 2), byte(0xff);
+    // Two channels per 32-bit lane, one in each 16-bit half (r and b, then g and a): a half's sum
+    // is at most 16 * 255 + 8 < 2^16, so it never carries into the other, and after the shift
+    // the mask drops what the upper half shifted into the lower.
+    const I round((S / 2) * 0x00010001), even(0x00ff00ff);
     for (int by = 0; by * kBlockSize < tile.height; ++by) {
       for (int bx = 0; bx * kBlockSize < tile.width; ++bx) {
         const int blk = by * kBlocksPerTileSide + bx;
@@ -603,27 +606,27 @@ struct TileKernelImpl {
           if (S == 1) {
             out = I::load_aligned(cblk + v * L);
           } else {
-            I r(0), g(0), b(0), al(0);
+            I rb(0), ga(0);
             for (int s = 0; s < S; ++s) {
               const I c = I::load_aligned(cblk + s * kBlockPixels + v * L);
-              r += c & byte;
-              g += (c >> 8) & byte;
-              b += (c >> 16) & byte;
-              al += (c >> 24) & byte;
+              rb += c & even;
+              ga += (c >> 8) & even;
             }
             // resolve::box_mean(): (sum + S/2) / S, with S a power of two.
-            r = (r + round) >> shift;
-            g = (g + round) >> shift;
-            b = (b + round) >> shift;
-            al = (al + round) >> shift;
-            out = r | (g << 8) | (b << 16) | (al << 24);
+            rb = ((rb + round) >> shift) & even;
+            ga = ((ga + round) >> shift) & even;
+            out = rb | (ga << 8);
           }
+          // The lanes' pixels are whole rows of the block (half a row with four lanes): copied
+          // row piece by row piece, not pixel by pixel.
+          constexpr int kPiece = L < kBlockSize ? L : kBlockSize;
           alignas(64) std::int32_t lanes[L];
           out.store_aligned(lanes);
-          for (int l = 0; l < L; ++l) {
+          for (int l = 0; l < L; l += kPiece) {
             const int p = v * L + l;
-            cx.sc.resolved[(by * kBlockSize + p / kBlockSize) * kTileSize + bx * kBlockSize +
-                           p % kBlockSize] = static_cast<std::uint32_t>(lanes[l]);
+            std::memcpy(cx.sc.resolved + (by * kBlockSize + p / kBlockSize) * kTileSize +
+                            bx * kBlockSize + p % kBlockSize,
+                        lanes + l, sizeof(std::int32_t) * kPiece);
           }
         }
       }
