@@ -23,6 +23,13 @@ struct Mask<xsimd::avx512bw> {
   static std::uint32_t bits(const xsimd::batch_bool<float, A>& m) {
     return static_cast<__mmask16>(m);
   }
+  /// Lanes whose sign bit is set.
+  static std::uint32_t signs(const xsimd::batch<std::int32_t, A>& v) {
+    return _mm512_movepi32_mask(v);
+  }
+  static std::uint32_t signs(const xsimd::batch<double, A>& v) {
+    return _mm512_movepi64_mask(_mm512_castpd_si512(v));
+  }
   static xsimd::batch_bool<std::int32_t, A> ints(std::uint32_t b) {
     return xsimd::batch_bool<std::int32_t, A>(static_cast<__mmask16>(b));
   }
@@ -41,6 +48,13 @@ struct Mask<xsimd::avx2> {
   }
   static std::uint32_t bits(const xsimd::batch_bool<float, A>& m) {
     return static_cast<std::uint32_t>(_mm256_movemask_ps(m));
+  }
+  /// Lanes whose sign bit is set.
+  static std::uint32_t signs(const xsimd::batch<std::int32_t, A>& v) {
+    return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_castsi256_ps(v)));
+  }
+  static std::uint32_t signs(const xsimd::batch<double, A>& v) {
+    return static_cast<std::uint32_t>(_mm256_movemask_pd(v));
   }
   static __m256i expand(std::uint32_t b) {
     const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
@@ -63,6 +77,13 @@ struct Mask<xsimd::sse4_1> {
   }
   static std::uint32_t bits(const xsimd::batch_bool<float, A>& m) {
     return static_cast<std::uint32_t>(_mm_movemask_ps(m));
+  }
+  /// Lanes whose sign bit is set.
+  static std::uint32_t signs(const xsimd::batch<std::int32_t, A>& v) {
+    return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(v)));
+  }
+  static std::uint32_t signs(const xsimd::batch<double, A>& v) {
+    return static_cast<std::uint32_t>(_mm_movemask_pd(v));
   }
   static __m128i expand(std::uint32_t b) {
     const __m128i lane_bit = _mm_setr_epi32(1, 2, 4, 8);

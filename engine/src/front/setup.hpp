@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 
@@ -53,8 +54,11 @@ inline float clamp_like_simd(float v, float lo, float hi) {
   return m < hi ? m : hi;
 }
 
-/// Everything a rasterizer needs to know about one triangle.
-struct TriangleSetup {
+/// Everything a rasterizer needs to know about one triangle. The fields every tile kernel reads
+/// for every triangle, up to `draw`, fill the first two cache lines (125 bytes; the kernels
+/// prefetch exactly those), and the alignment keeps them from straddling a third: a bin's
+/// triangles are scattered through the setup arrays, so each is a cache miss.
+struct alignas(64) TriangleSetup {
   std::array<EdgeFunction, 3> edge;
   float x0 = 0, y0 = 0;                  ///< plane anchor: the snapped first vertex, in pixels
   int bx0 = 0, by0 = 0, bx1 = 0, by1 = 0;  ///< pixels [bx0, bx1) × [by0, by1) that may be covered
@@ -62,11 +66,13 @@ struct TriangleSetup {
   float z_min = 0, z_max = 0;  ///< depth is clamped to the vertices' range
   bool flat = true;            ///< constant colour: `color`; otherwise the planes below
   Rgba8 color;
+  std::uint32_t draw = 0;                   ///< index of the draw, for its state
   Plane q;                                  ///< 1/w, normalised so its largest vertex value is 1
   std::array<Plane, kColorChannels> c_q;    ///< colour * q per channel
-  std::uint32_t draw = 0;                   ///< index of the draw, for its state
   float sort_depth = 0;                     ///< mean vertex depth (painter's algorithm)
 };
+
+static_assert(offsetof(TriangleSetup, draw) + sizeof(TriangleSetup::draw) <= 128);
 
 /// Depth of the triangle at a sample position (pixels).
 inline float sample_depth(const TriangleSetup& t, float x, float y) {
