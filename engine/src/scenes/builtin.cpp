@@ -1,7 +1,7 @@
 // scenes/builtin.cpp — the built-in scenes: a showcase, stress cases, and test patterns.
 //
 // Takes: a scene name, a target size and a seed. Gives: a Scene whose bits depend only on those
-// three (every platform, every standard library): randomness comes from splitmix64 below, and
+// three (every platform, every standard library): randomness comes from splitmix64 (scenes/rng.hpp), and
 // angles from a Taylor series that uses only IEEE + and * (std::sin's last bit depends on the
 // libm; the build disables FMA contraction). Screen-space vertices are snapped to 1/256 px, as
 // the renderer snaps them, so the stated areas and lengths hold exactly for what is drawn and a
