@@ -47,14 +47,16 @@ inline constexpr int kShaderBatch = 16;
 
 /// One batch of pixels, structure of arrays: lane l is one pixel (or one sample under SSAA).
 struct alignas(64) ShaderInput {
+  // Every array starts on a 64-byte boundary (each is 64 bytes), so that the kernels store whole
+  // SIMD vectors into them.
   float x[kShaderBatch];  ///< shading position in pixels, y down (pixel centre: px + 0.5)
   float y[kShaderBatch];
+  /// varying[k][l]: varying k of lane l, perspective-correct. Rows k >= varying_count are unset.
+  float varying[kMaxVaryings][kShaderBatch];
   /// Bit l set: lane l will be written. Inactive lanes' varyings are 0 and their outputs are
   /// ignored; they are there so that the loop over the batch needs no branch.
   std::uint32_t active = 0;
   int varying_count = 0;  ///< Draw::varyings.size()
-  /// varying[k][l]: varying k of lane l, perspective-correct. Rows k >= varying_count are unset.
-  float varying[kMaxVaryings][kShaderBatch];
 };
 
 /// The colours of a batch, straight alpha, 0 to 1 per channel. The renderer converts each to

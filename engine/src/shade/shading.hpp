@@ -6,6 +6,7 @@
 // Takes: a triangle's setup and its draw. Gives: the colour of one pixel or sample.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -15,6 +16,11 @@
 #include "mosaic/shader.hpp"
 
 namespace mosaic::shade {
+
+// The tile kernels store and load whole SIMD vectors (up to 64 bytes) in a batch's arrays.
+static_assert(offsetof(ShaderInput, y) % 64 == 0 && offsetof(ShaderInput, varying) % 64 == 0);
+static_assert(offsetof(ShaderOutput, g) % 64 == 0 && offsetof(ShaderOutput, b) % 64 == 0 &&
+              offsetof(ShaderOutput, a) % 64 == 0);
 
 /// A draw's shading, as the kernels read it (one per draw of the frame).
 struct DrawShading {
