@@ -11,6 +11,12 @@
 //                               depth-off (no test, no writes: no depth kept), interpolated
 //                               (per-vertex colour), depth-only+hiz (keeping the hierarchical z);
 //                               S = 1 and 4 samples
+//   features/shader/<colour>/<S>x the cost of a shader: the same flat colour from the built-in
+//                               constant-colour kernel (builtin), from flat_color_shader
+//                               (shader: generic kernel, one batch call per 16 pixels), and with
+//                               source-over blending on top (shader+blend)
+//   features/varyings/<N>/1x    a shader summing N = 0, 4 or 8 varyings (random attributes):
+//                               what perspective-correct interpolation costs per varying
 //   features/depth-only/1x/<isa> the depth-only pass on every SIMD path: the comparison with
 //                               Intel's Masked Occlusion Culling (100k triangles of 10–50 px²,
 //                               depth-only, 1920×1080, one thread: 3.3–4.4 ms with AVX-512)
@@ -27,7 +33,9 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mosaic/mosaic.hpp"
@@ -100,12 +108,63 @@ const mosaic::Scene& scene(Variant v) {
   return *slot;
 }
 
-void bench_frame(benchmark::State& state, Variant v, int samples, mosaic::Isa isa) {
+/// How the shader cases colour random-small (features/shader and features/varyings).
+enum class Shading { kNone, kBuiltinFlat, kFlatShader, kFlatShaderBlend, kVaryings };
+
+/// Attributes per vertex of the varyings cases: the most any case reads.
+constexpr std::uint32_t kBenchAttributes = 8;
+
+/// A shader that sums N varyings into its colour (so that none is optimised away).
+template <int N>
+mosaic::Shader sum_shader() {
+  return mosaic::make_shader(
+      [](const mosaic::Fragment& f) {
+        float sum = 0.0f;
+        for (int k = 0; k < N; ++k) sum += f.varying(k);
+        return glm::vec4(0.5f + 0.1f * sum, 0.25f, 0.75f, 1.0f);
+      },
+      N);
+}
+
+/// The draws of random-small coloured as `shading` asks (N varyings for kVaryings). The
+/// attribute buffers live as long as the program.
+std::vector<mosaic::Draw> shaded_draws(const mosaic::Scene& sc, Shading shading, int varyings) {
+  static std::map<const mosaic::Mesh*, std::vector<float>> attributes;
+  static const std::uint32_t kAll[kBenchAttributes] = {0, 1, 2, 3, 4, 5, 6, 7};
+  std::vector<mosaic::Draw> draws = sc.draws();
+  if (shading == Shading::kNone) return draws;
+  const glm::vec4 flat(0.8f, 0.4f, 0.2f, 0.6f);
+  for (std::size_t i = 0; i < draws.size(); ++i) {
+    mosaic::Draw& d = draws[i];
+    d.color_source = mosaic::ColorSource::kConstant;
+    d.color = {204, 102, 51, 153};  // the same colour as `flat`, in 8 bits
+    if (shading == Shading::kBuiltinFlat) continue;
+    if (shading != Shading::kVaryings) {
+      d.shader = mosaic::flat_color_shader(flat);
+      if (shading == Shading::kFlatShaderBlend) d.state.blend = mosaic::BlendMode::kSourceOver;
+      continue;
+    }
+    std::vector<float>& a = attributes[&sc.meshes[i]];
+    if (a.empty()) {
+      Rng rng{11};
+      a.resize(sc.meshes[i].positions.size() * kBenchAttributes);
+      for (float& x : a) x = static_cast<float>(rng.uniform(0, 1));
+    }
+    d.attributes = a;
+    d.attribute_count = kBenchAttributes;
+    d.varyings = std::span<const std::uint32_t>(kAll, static_cast<std::size_t>(varyings));
+    d.shader = varyings == 0 ? sum_shader<0>() : varyings == 4 ? sum_shader<4>() : sum_shader<8>();
+  }
+  return draws;
+}
+
+void bench_frame(benchmark::State& state, Variant v, int samples, mosaic::Isa isa,
+                 Shading shading = Shading::kNone, int varyings = 0) {
   const mosaic::Scene& sc = scene(v);
   mosaic::Renderer renderer({1, isa});
   mosaic::RenderTarget target(sc.width, sc.height, samples);
   target.set_clear(sc.clear_color, sc.clear_depth);
-  const std::vector<mosaic::Draw> draws = sc.draws();
+  const std::vector<mosaic::Draw> draws = shaded_draws(sc, shading, varyings);
   mosaic::Frame frame;
   frame.draws = draws;
   frame.keep_hierarchical_z = v == Variant::kDepthOnlyHiz;
@@ -251,6 +310,22 @@ const bool registered = [] {
       configure(benchmark::RegisterBenchmark(
           (std::string("features/") + name(v) + "/" + std::to_string(samples) + "x").c_str(),
           [=](benchmark::State& st) { bench_frame(st, v, samples, mosaic::Isa::kAuto); }));
+  const std::pair<const char*, Shading> shader_cases[] = {
+      {"builtin", Shading::kBuiltinFlat},
+      {"shader", Shading::kFlatShader},
+      {"shader+blend", Shading::kFlatShaderBlend}};
+  for (const auto& [label, shading] : shader_cases)
+    for (int samples : {1, 4})
+      configure(benchmark::RegisterBenchmark(
+          (std::string("features/shader/") + label + "/" + std::to_string(samples) + "x").c_str(),
+          [=](benchmark::State& st) {
+            bench_frame(st, Variant::kColorDepth, samples, mosaic::Isa::kAuto, shading);
+          }));
+  for (int n : {0, 4, 8})
+    configure(benchmark::RegisterBenchmark(
+        ("features/varyings/" + std::to_string(n) + "/1x").c_str(), [=](benchmark::State& st) {
+          bench_frame(st, Variant::kColorDepth, 1, mosaic::Isa::kAuto, Shading::kVaryings, n);
+        }));
   for (mosaic::Isa isa : mosaic::available_isas()) {
     if (isa == mosaic::Isa::kReference) continue;
     configure(benchmark::RegisterBenchmark(

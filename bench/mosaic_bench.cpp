@@ -248,9 +248,10 @@ struct StageRig {
       tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t i) {
         const Job& j = jobs[i];
         chunks[i].tris.clear();
+        chunks[i].planes.clear();
         mosaic::front::FrontStats fs;
         mosaic::front::run_front_end(draws[j.draw], j.draw, j.begin, j.end, scene.width,
-                                     scene.height, chunks[i].tris, fs);
+                                     scene.height, chunks[i].tris, fs, &chunks[i].planes);
       });
     });
   }
@@ -296,7 +297,7 @@ struct StageRig {
               if (!empty) {
                 for (const mosaic::bin::Chunk& c : chunks) {
                   const auto span = c.bin(t);
-                  if (!span.empty()) bin.push_back({c.tris.data(), span});
+                  if (!span.empty()) bin.push_back({c.tris.data(), span, c.planes.data()});
                 }
               }
               kernel(tf, grid.rect(t), bin, sc, ts);

@@ -32,6 +32,44 @@ namespace mosaic {
 
 namespace detail {
 
+namespace {
+
+// The attribute, varying and shader checks of validate_draw().
+void validate_shading(const Draw& draw, std::size_t vertices, const std::string& where) {
+  const std::size_t stride = draw.attribute_count;
+  // vertices * stride > size, without overflowing.
+  if (stride > 0 && vertices > 0 && (draw.attributes.size() / stride < vertices))
+    throw Error(Errc::kInvalidDraw,
+                where + "attribute buffer too short: " + std::to_string(draw.attributes.size()) +
+                    " floats for " + std::to_string(vertices) + " vertices of " +
+                    std::to_string(stride) + " attributes");
+  if (draw.varyings.empty()) {
+    if (draw.shader && draw.shader.varyings_read() > 0)
+      throw Error(Errc::kInvalidDraw, where + "the shader reads " +
+                                          std::to_string(draw.shader.varyings_read()) +
+                                          " varyings and the draw gives none");
+    return;
+  }
+  if (!draw.shader)
+    throw Error(Errc::kInvalidDraw, where + "varyings are given but the draw has no shader");
+  if (draw.varyings.size() > static_cast<std::size_t>(kMaxVaryings))
+    throw Error(Errc::kInvalidDraw, where + std::to_string(draw.varyings.size()) +
+                                        " varyings, more than kMaxVaryings (" +
+                                        std::to_string(kMaxVaryings) + ")");
+  if (draw.varyings.size() < static_cast<std::size_t>(std::max(0, draw.shader.varyings_read())))
+    throw Error(Errc::kInvalidDraw,
+                where + "the shader reads " + std::to_string(draw.shader.varyings_read()) +
+                    " varyings and the draw gives " + std::to_string(draw.varyings.size()));
+  for (std::size_t k = 0; k < draw.varyings.size(); ++k)
+    if (draw.varyings[k] >= draw.attribute_count)
+      throw Error(Errc::kInvalidDraw, where + "varying " + std::to_string(k) + " is attribute " +
+                                          std::to_string(draw.varyings[k]) + ", past the " +
+                                          std::to_string(draw.attribute_count) +
+                                          " attributes per vertex");
+}
+
+}  // namespace
+
 void validate_draw(const Draw& draw, std::size_t d) {
   const std::string where = "draw " + std::to_string(d) + ": ";
   const bool xyz = !draw.positions_xyz.empty();
@@ -54,6 +92,7 @@ void validate_draw(const Draw& draw, std::size_t d) {
     throw Error(Errc::kInvalidDraw, where + "vertex count " + std::to_string(vertices) +
                                         " is not a multiple of 3 and there is no index buffer");
   }
+  validate_shading(draw, vertices, where);
   const std::size_t tris = front::triangle_count(draw);
   if (draw.color_source == ColorSource::kPerTriangle && draw.colors.size() != tris)
     throw Error(Errc::kInvalidDraw, where + std::to_string(draw.colors.size()) + " colours for " +
@@ -104,6 +143,7 @@ struct Renderer::Impl {
   std::vector<bin::Chunk> chunks;
   std::vector<ChunkJob> jobs;
   std::vector<DrawState> states;
+  std::vector<shade::DrawShading> shading;
   std::vector<std::pair<std::uint64_t, int>> tile_order;
   tbb::enumerable_thread_specific<raster::TileScratch> scratch;
   tbb::enumerable_thread_specific<std::vector<raster::BinRun>> runs;
@@ -229,14 +269,16 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
 
   arena->execute([&] {
     if (frame.painter) {
-      chunks[0].tris = reference::setup_frame(frame, W, H, stats);
+      chunks[0].planes.clear();
+      chunks[0].tris = reference::setup_frame(frame, W, H, stats, &chunks[0].planes);
     } else {
       tbb::parallel_for(std::size_t{0}, nchunks, [&](std::size_t i) {
         const ChunkJob& j = jobs[i];
         const auto c0 = record ? Clock::now() : Clock::time_point{};
         chunks[i].tris.clear();
+        chunks[i].planes.clear();
         front::run_front_end(frame.draws[j.draw], j.draw, j.begin, j.end, W, H, chunks[i].tris,
-                             front_stats.local());
+                             front_stats.local(), &chunks[i].planes);
         if (record) stats.chunk_costs[i] = {j.end - j.begin, ms_between(c0, Clock::now()), 0};
       });
     }
@@ -269,6 +311,8 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
 
   raster::TileFrame tf;
   tf.states = states;
+  shading = shade::frame_shading(frame.draws);
+  tf.shading = shading;
   tf.samples = S;
   tf.ssaa = frame.ssaa;
   tf.clear_color = target.clear_color();
@@ -315,7 +359,8 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
             bin.clear();
             for (std::size_t c = 0; c < nchunks; ++c) {
               const auto span = chunks[c].bin(t);
-              if (!span.empty()) bin.push_back({chunks[c].tris.data(), span});
+              if (!span.empty())
+                bin.push_back({chunks[c].tris.data(), span, chunks[c].planes.data()});
             }
             const auto c0 = record ? Clock::now() : Clock::time_point{};
             const raster::TileRect rect = grid.rect(t);

@@ -1,4 +1,5 @@
-// mosaic/draw.hpp — one draw call: triangles, their colour, and the state they are drawn with.
+// mosaic/draw.hpp — one draw call: triangles, their attributes, their colour or shader, and the
+// state they are drawn with.
 //
 // Takes: nothing (plain data). Gives: Draw and DrawState, which Renderer::render() consumes.
 // A Draw only points at the caller's buffers (std::span); they must stay alive for the
@@ -11,6 +12,7 @@
 #include <glm/vec4.hpp>
 #include <span>
 
+#include "mosaic/shader.hpp"
 #include "mosaic/types.hpp"
 
 namespace mosaic {
@@ -30,6 +32,9 @@ struct DrawState {
   CullMode cull = CullMode::kNone;                      ///< which facing triangles to discard
   FrontFace front_face = FrontFace::kCounterClockwise;  ///< the winding that faces the viewer
   FillRule fill_rule = FillRule::kD3D;                  ///< who owns samples exactly on an edge
+  /// How the colour combines with what the samples hold: replace, or source-over alpha in draw
+  /// order (per sample, after the depth test; depth is written as without blending).
+  BlendMode blend = BlendMode::kNone;
 };
 
 /// A list of triangles.
@@ -38,8 +43,15 @@ struct DrawState {
 /// xyz with w = 1) multiplied by `transform` into `space` (in double precision). Triangles are
 /// `indices` taken three at a time, or vertices 0,1,2, 3,4,5, … when `indices` is empty.
 ///
+/// The colour comes from `shader` when it is set (mosaic/shader.hpp), otherwise from
+/// `color_source`. A shader reads varyings: attributes of the vertices (`attributes`,
+/// `attribute_count` floats per vertex) interpolated perspective-correctly over the triangle; only
+/// the attributes listed in `varyings` are interpolated.
+///
 /// Renderer::render() checks every draw before it draws any: counts that do not fit together
-/// throw Error{kInvalidDraw}, an index past the last vertex Error{kIndexOutOfRange}.
+/// (an attribute buffer too short for the vertices, a varying past attribute_count, more than
+/// kMaxVaryings varyings, fewer than the shader reads, varyings without a shader) throw
+/// Error{kInvalidDraw}, an index past the last vertex Error{kIndexOutOfRange}.
 /// Triangles with a NaN or infinite coordinate after the transform are culled and counted in
 /// FrameStats::triangles_nonfinite; they never affect other triangles.
 struct Draw {
@@ -53,7 +65,18 @@ struct Draw {
   Rgba8 color{255, 255, 255, 255};                    ///< for kConstant
   std::span<const Rgba8> colors;  ///< one per triangle (kPerTriangle) or per vertex (kPerVertex)
 
-  DrawState state;  ///< depth test and write, culling, fill rule
+  /// Per-vertex float attributes, interleaved: attribute a of vertex v is
+  /// attributes[v * attribute_count + a]. At least vertex count × attribute_count floats.
+  std::span<const float> attributes;
+  std::uint32_t attribute_count = 0;  ///< floats per vertex in `attributes`
+  /// The shader's inputs: varying k is attribute varyings[k]. At most kMaxVaryings, each below
+  /// attribute_count, at least shader.varyings_read() of them; empty without a shader.
+  std::span<const std::uint32_t> varyings;
+  /// The fragment shader; empty (the default) colours the draw from color_source, with the
+  /// renderer's specialised kernels.
+  Shader shader;
+
+  DrawState state;  ///< depth test and write, culling, fill rule, blending
 };
 
 }  // namespace mosaic

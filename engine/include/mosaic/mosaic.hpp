@@ -8,4 +8,5 @@
 #include "mosaic/render_target.hpp"
 #include "mosaic/renderer.hpp"
 #include "mosaic/scene.hpp"
+#include "mosaic/shader.hpp"
 #include "mosaic/types.hpp"

@@ -1,6 +1,7 @@
 // mosaic/types.hpp — small value types and enums shared by the whole public API.
 //
-// Takes: nothing. Gives: Rgba8, the draw-state enums, Space, Isa, and the size limit of a target.
+// Takes: nothing. Gives: Rgba8, the draw-state enums (BlendMode too), Space, Isa, and the size
+// limit of a target.
 #pragma once
 
 #include <cstdint>
@@ -53,6 +54,15 @@ enum class ColorSource : std::uint8_t {
   kConstant,     ///< Draw::color for every triangle
   kPerTriangle,  ///< Draw::colors[triangle]
   kPerVertex,    ///< Draw::colors[vertex], interpolated perspective-correctly
+};
+
+/// How a draw's colour combines with the colour already in a sample, in draw order.
+enum class BlendMode : std::uint8_t {
+  kNone,  ///< replace it
+  /// Source-over with straight alpha, in 8 bits per channel: with the draw's colour s (alpha a)
+  /// and the stored colour d, each of r, g, b becomes round((s·a + d·(255 − a)) / 255) and alpha
+  /// round((255·a + d_alpha·(255 − a)) / 255), rounded to nearest (there are no ties).
+  kSourceOver,
 };
 
 /// The coordinate space of Draw::positions.

@@ -86,9 +86,16 @@ bool divide(const ClipVertex& c, ScreenVertex& s) {
 
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                   FrontStats& stats) {
+                   FrontStats& stats, std::vector<Plane>* planes) {
   const VertexFetch fetch{draw, glm::dmat4(draw.transform), width * 0.5, height * 0.5};
-  const bool per_vertex = draw.color_source == ColorSource::kPerVertex;
+  const bool shader = static_cast<bool>(draw.shader);
+  // A shader colours the draw: vertex colours are not set up.
+  const bool per_vertex = !shader && draw.color_source == ColorSource::kPerVertex;
+  const int nvary = shader && planes ? static_cast<int>(draw.varyings.size()) : 0;
+  // Varyings of the submitted corners, and of the clipped polygon's vertices (weighted sums of
+  // the corners' by their barycentric weights).
+  std::array<std::array<double, kMaxVaryings>, 3> corner_attr;
+  std::array<std::array<double, kMaxVaryings>, kMaxClipVertices> poly_attr;
   // Reused across triangles: each holds 11 vertices of 64 bytes, and constructing (zeroing) them
   // per triangle was a seventh of the front end. Only entries written for this triangle are read.
   ClipPolygon poly;
@@ -100,6 +107,7 @@ void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t beg
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t vi = draw.indices.empty() ? 3 * t + k : draw.indices[3 * t + k];
       finite = finite && fetch(vi, cv[k]);
+      if (shader) cv[k].color = {k == 0 ? 1.0 : 0.0, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0, 0.0};
     }
     if (!finite) {
       ++stats.nonfinite;
@@ -125,6 +133,24 @@ void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t beg
       ++stats.degenerate;
       continue;
     }
+    if (nvary > 0) {
+      for (std::uint32_t c = 0; c < 3; ++c) {
+        const std::uint32_t vi = draw.indices.empty() ? 3 * t + c : draw.indices[3 * t + c];
+        const std::size_t row = static_cast<std::size_t>(vi) * draw.attribute_count;
+        for (int k = 0; k < nvary; ++k) corner_attr[c][k] = draw.attributes[row + draw.varyings[k]];
+      }
+      if (r == ClipResult::kInside) {
+        for (int c = 0; c < 3; ++c) poly_attr[c] = corner_attr[c];
+      } else {
+        // (Not for unclipped corners: 0 * an infinite attribute would make NaN of a finite one.)
+        for (int j = 0; j < poly.count; ++j) {
+          const auto& b = poly.v[j].color;  // barycentric weights (front/clip.hpp)
+          for (int k = 0; k < nvary; ++k)
+            poly_attr[j][k] =
+                b[0] * corner_attr[0][k] + b[1] * corner_attr[1][k] + b[2] * corner_attr[2][k];
+        }
+      }
+    }
     // A clipped polygon is drawn as a fan around its first vertex. The rejection counters count
     // submitted triangles: a polygon none of whose pieces is drawn counts once, face culling
     // first (every piece has the polygon's winding); a piece rejected beside drawn ones is a
@@ -132,11 +158,17 @@ void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t beg
     bool any_drawn = false, any_face = false, any_outside = false;
     for (int k = 1; k + 1 < poly.count; ++k) {
       TriangleSetup ts;
-      const SetupReject why = setup_triangle({sv[0], sv[k], sv[k + 1]}, draw.state, width, height,
-                                             per_vertex, flat, ts);
+      PlaneBasis basis;
+      const std::array<ScreenVertex, 3> tri{sv[0], sv[k], sv[k + 1]};
+      const SetupReject why = setup_triangle(tri, draw.state, width, height, per_vertex, flat, ts,
+                                             nvary > 0 ? &basis : nullptr);
       any_face = any_face || why == SetupReject::kFace;
       any_outside = any_outside || why == SetupReject::kOutside;
       if (why != SetupReject::kNone) continue;
+      if (shader && planes)
+        setup_varyings(tri, basis,
+                       {poly_attr[0].data(), poly_attr[k].data(), poly_attr[k + 1].data()}, nvary,
+                       ts, *planes);
       ts.draw = draw_index;
       ++stats.drawn;
       any_drawn = true;

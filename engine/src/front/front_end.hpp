@@ -28,9 +28,11 @@ struct FrontStats {
 std::uint32_t triangle_count(const Draw& draw);
 
 /// Runs the front end on triangles [begin, end) of `draw`, appending to `out`.
-/// `order_base` is the submission index of triangle `begin` in the frame.
+/// `draw_index` is the draw's index in the frame. The varying planes of a shader draw go to
+/// `planes` (TriangleSetup::varying_base indexes it); without `planes` none are set up (the
+/// occlusion queries need depth only).
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                   FrontStats& stats);
+                   FrontStats& stats, std::vector<Plane>* planes = nullptr);
 
 }  // namespace mosaic::front

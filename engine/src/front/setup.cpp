@@ -47,9 +47,9 @@ Rgba8 shade(const TriangleSetup& t, float x, float y) {
   return {c[0], c[1], c[2], c[3]};
 }
 
-SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state,
-                           int width, int height, bool per_vertex_color, Rgba8 flat_color,
-                           TriangleSetup& out) {
+SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state, int width,
+                           int height, bool per_vertex_color, Rgba8 flat_color, TriangleSetup& out,
+                           PlaneBasis* basis) {
   std::array<FixedPoint, 3> p;
   for (int i = 0; i < 3; ++i) p[i] = {snap(v[i].x), snap(v[i].y)};
 
@@ -105,6 +105,7 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
     Q[i] = v[idx[i]].q;
   }
   const double area_px2 = static_cast<double>(area2 < 0 ? -area2 : area2) / (kUnitsPerPx * kUnitsPerPx);
+  if (basis) *basis = {X, Y, idx, area_px2};
   out.x0 = static_cast<float>(X[0]);
   out.y0 = static_cast<float>(Y[0]);
   out.z = make_plane(X, Y, area_px2, Z[0], Z[1], Z[2]);
@@ -140,6 +141,28 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
     }
   }
   return SetupReject::kNone;
+}
+
+void setup_varyings(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basis,
+                    const std::array<const double*, 3>& values, int count, TriangleSetup& out,
+                    std::vector<Plane>& planes) {
+  out.varying_base = static_cast<std::uint32_t>(planes.size());
+  if (count == 0) return;
+  const auto& [X, Y, idx, area_px2] = basis;
+  const double* a[3] = {values[idx[0]], values[idx[1]], values[idx[2]]};
+  // As for colour: only ratios of q matter, so the largest is normalised to 1.
+  const double qmax = std::max({v[idx[0]].q, v[idx[1]].q, v[idx[2]].q});
+  const std::array<double, 3> qn{v[idx[0]].q / qmax, v[idx[1]].q / qmax, v[idx[2]].q / qmax};
+  out.q = make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]);
+  bool ok = finite(out.q);
+  for (int k = 0; k < count; ++k) {
+    planes.push_back(make_plane(X, Y, area_px2, a[0][k] * qn[0], a[1][k] * qn[1], a[2][k] * qn[2]));
+    ok = ok && finite(planes.back());
+  }
+  if (ok) return;
+  out.q = {1.0f, 0.0f, 0.0f};
+  for (int k = 0; k < count; ++k)
+    planes[out.varying_base + k] = {static_cast<float>(a[0][k]), 0, 0};
 }
 
 }  // namespace mosaic::front

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "front/clip.hpp"
 #include "front/fixed_point.hpp"
@@ -70,6 +71,18 @@ struct alignas(64) TriangleSetup {
   Plane q;                                  ///< 1/w, normalised so its largest vertex value is 1
   std::array<Plane, kColorChannels> c_q;    ///< colour * q per channel
   float sort_depth = 0;                     ///< mean vertex depth (painter's algorithm)
+  /// A shader draw's varying planes (attr * q, like c_q) start here in the chunk's plane array;
+  /// `q` is then their 1/w plane. Kept out of line: draws without varyings pay nothing.
+  std::uint32_t varying_base = 0;
+};
+
+/// The snapped, oriented corners and area a triangle's planes are built on (setup_triangle()
+/// gives it, setup_varyings() takes it). Left uninitialised until setup_triangle() fills it: the
+/// front end makes one per triangle, and zeroing it cost every draw, shader or not.
+struct PlaneBasis {
+  std::array<double, 3> X, Y;  ///< snapped corners in pixels, clockwise on screen
+  std::array<int, 3> idx;      ///< which input vertex each corner is
+  double area_px2;             ///< twice the area, in px²
 };
 
 static_assert(offsetof(TriangleSetup, draw) + sizeof(TriangleSetup::draw) <= 128);
@@ -96,9 +109,17 @@ enum class SetupReject { kNone, kFace, kDegenerate, kOutside };
 std::int32_t snap(double px);
 
 /// Snaps and sets up a triangle for a width × height target.
-/// `flat_color` is used when `per_vertex_color` is false.
-SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state,
-                           int width, int height, bool per_vertex_color, Rgba8 flat_color,
-                           TriangleSetup& out);
+/// `flat_color` is used when `per_vertex_color` is false. `basis`, when given, receives the
+/// corners the planes were built on (for setup_varyings()).
+SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state, int width,
+                           int height, bool per_vertex_color, Rgba8 flat_color, TriangleSetup& out,
+                           PlaneBasis* basis = nullptr);
+
+/// Appends `count` varying planes of a set-up triangle to `planes` and points out.varying_base at
+/// them; sets out.q. values[i][k] is varying k at input vertex i (v[i]). Planes that overflow
+/// float (a tiny sliver with steep varyings) become the constants of the first corner.
+void setup_varyings(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basis,
+                    const std::array<const double*, 3>& values, int count, TriangleSetup& out,
+                    std::vector<Plane>& planes);
 
 }  // namespace mosaic::front

@@ -30,8 +30,11 @@ struct BlockDepthRange {
   double base, ddx, ddy, x0, y0;
   explicit BlockDepthRange(const front::TriangleSetup& t)
       : base(t.z.base), ddx(t.z.ddx), ddy(t.z.ddy), x0(t.x0), y0(t.y0) {}
-  /// The clamped depth range over the pixels [px0, px0 + w) × [py0, py0 + h).
-  std::pair<float, float> over(int px0, int py0, int w, int h, float lo, float hi) const {
+  /// The clamped depth range over the pixels [px0, px0 + w) × [py0, py0 + h). Always inlined:
+  /// the tile kernels call it per block, and GCC stops inlining it once a kernel file holds many
+  /// specialisations (measured: +1.7 % instructions on random-small when it was not).
+  [[gnu::always_inline]] std::pair<float, float> over(int px0, int py0, int w, int h, float lo,
+                                                      float hi) const {
     const double dx = px0 - x0, dy = py0 - y0, ew = w, eh = h;
     const double corner = base + ddx * dx + ddy * dy;
     const double mag = std::abs(base) + std::abs(ddx) * std::max(std::abs(dx), std::abs(dx + ew)) +

@@ -14,6 +14,7 @@
 #include "front/setup.hpp"
 #include "mosaic/draw.hpp"
 #include "mosaic/types.hpp"
+#include "shade/shading.hpp"
 
 namespace mosaic::raster {
 
@@ -37,11 +38,15 @@ static_assert(kTileSize % kBlockSize == 0);
 struct BinRun {
   const front::TriangleSetup* tris = nullptr;
   std::span<const std::uint32_t> indices;
+  const front::Plane* planes = nullptr;  ///< the chunk's varying planes (shader draws)
 };
 
 /// Frame-wide, read-only inputs of every tile.
 struct TileFrame {
   std::span<const DrawState> states;  ///< per draw; the painter's override already applied
+  /// Per draw, when some draw of the frame has a shader or blends (shade::frame_shading());
+  /// empty otherwise, and every triangle takes the specialised colour kernels.
+  std::span<const shade::DrawShading> shading;
   int samples = 1;
   bool ssaa = false;
   Rgba8 clear_color;

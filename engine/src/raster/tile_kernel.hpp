@@ -13,6 +13,9 @@
 //      int32 is evaluated in double lanes, exact for integers below 2^53);
 //   4. depth (float plane, the same operations as the reference) and the per-sample test;
 //   5. colour: once per pixel (MSAA) or per sample (SSAA), written where the test passed.
+// A draw with a shader or blending (generic, shade/shading.hpp) takes the same steps 1-4, keeps
+// each sample's passing lanes, and then colours the block in batches of kShaderBatch pixels:
+// one call of the shader's batch function per batch (not per pixel), then blending per sample.
 // The kernel a triangle gets is specialised on what its draw uses (triangle() picks it): the
 // depth test and write, flat or interpolated colour, MSAA or SSAA, and colour write — a
 // depth-only draw shades nothing and touches no colour memory, and at one sample its kernel is
@@ -116,6 +119,7 @@ struct TileKernelImpl {
     F colf[kVectors], rowf[kVectors];     ///< the same as floats
     F ox[kMaxSamples], oy[kMaxSamples];   ///< sample offset from the pixel corner, in pixels
     std::int64_t soff[2][kMaxSamples];    ///< sample offset from the pixel corner, in 16.8
+    const front::Plane* planes = nullptr;  ///< varying planes of the bin run being drawn
   };
 
   // Chooses the specialisation of triangle_impl() for the draw's state, so that the inner loops
@@ -128,6 +132,9 @@ struct TileKernelImpl {
       if (cx.f.samples == 1) return triangle_depth<false, true, false, true>(cx, t, ds);
       return triangle_depth<false, true, false, false>(cx, t, ds);
     }
+    // Shaders and blending: one kernel per depth mode, SSAA decided when colouring.
+    if (!cx.f.shading.empty() && cx.f.shading[t.draw].generic)
+      return triangle_depth<false, false, true, false, true>(cx, t, ds);
     if (cx.f.ssaa) return triangle_state<true>(cx, t, ds);
     return triangle_state<false>(cx, t, ds);
   }
@@ -136,25 +143,34 @@ struct TileKernelImpl {
     if (t.flat) return triangle_depth<kSsaa, true>(cx, t, ds);
     return triangle_depth<kSsaa, false>(cx, t, ds);
   }
-  template <bool kSsaa, bool kFlat, bool kColor = true, bool kS1 = false>
+  template <bool kSsaa, bool kFlat, bool kColor = true, bool kS1 = false, bool kGeneric = false>
   static void triangle_depth(Context& cx, const front::TriangleSetup& t, const DrawState& ds) {
     const bool w = ds.depth_write;
     switch (ds.depth_test) {
       case DepthTest::kLess:
-        return w ? triangle_impl<DepthTest::kLess, true, kFlat, kSsaa, kColor, kS1>(cx, t)
-                 : triangle_impl<DepthTest::kLess, false, kFlat, kSsaa, kColor, kS1>(cx, t);
+        return w ? triangle_impl<DepthTest::kLess, true, kFlat, kSsaa, kColor, kS1, kGeneric>(cx, t)
+                 : triangle_impl<DepthTest::kLess, false, kFlat, kSsaa, kColor, kS1, kGeneric>(cx,
+                                                                                               t);
       case DepthTest::kLessEqual:
-        return w ? triangle_impl<DepthTest::kLessEqual, true, kFlat, kSsaa, kColor, kS1>(cx, t)
-                 : triangle_impl<DepthTest::kLessEqual, false, kFlat, kSsaa, kColor, kS1>(cx, t);
+        return w ? triangle_impl<DepthTest::kLessEqual, true, kFlat, kSsaa, kColor, kS1, kGeneric>(
+                       cx, t)
+                 : triangle_impl<DepthTest::kLessEqual, false, kFlat, kSsaa, kColor, kS1, kGeneric>(
+                       cx, t);
       case DepthTest::kGreater:
-        return w ? triangle_impl<DepthTest::kGreater, true, kFlat, kSsaa, kColor, kS1>(cx, t)
-                 : triangle_impl<DepthTest::kGreater, false, kFlat, kSsaa, kColor, kS1>(cx, t);
+        return w ? triangle_impl<DepthTest::kGreater, true, kFlat, kSsaa, kColor, kS1, kGeneric>(cx,
+                                                                                                 t)
+                 : triangle_impl<DepthTest::kGreater, false, kFlat, kSsaa, kColor, kS1, kGeneric>(
+                       cx, t);
       case DepthTest::kGreaterEqual:
-        return w ? triangle_impl<DepthTest::kGreaterEqual, true, kFlat, kSsaa, kColor, kS1>(cx, t)
-                 : triangle_impl<DepthTest::kGreaterEqual, false, kFlat, kSsaa, kColor, kS1>(cx, t);
+        return w ? triangle_impl<DepthTest::kGreaterEqual, true, kFlat, kSsaa, kColor, kS1,
+                                 kGeneric>(cx, t)
+                 : triangle_impl<DepthTest::kGreaterEqual, false, kFlat, kSsaa, kColor, kS1,
+                                 kGeneric>(cx, t);
       case DepthTest::kAlways:
-        return w ? triangle_impl<DepthTest::kAlways, true, kFlat, kSsaa, kColor, kS1>(cx, t)
-                 : triangle_impl<DepthTest::kAlways, false, kFlat, kSsaa, kColor, kS1>(cx, t);
+        return w ? triangle_impl<DepthTest::kAlways, true, kFlat, kSsaa, kColor, kS1, kGeneric>(cx,
+                                                                                                t)
+                 : triangle_impl<DepthTest::kAlways, false, kFlat, kSsaa, kColor, kS1, kGeneric>(cx,
+                                                                                                 t);
     }
   }
 
@@ -178,7 +194,8 @@ struct TileKernelImpl {
     return 1;
   }
 
-  template <DepthTest kTest, bool kWrite, bool kFlat, bool kSsaa, bool kColor, bool kS1>
+  template <DepthTest kTest, bool kWrite, bool kFlat, bool kSsaa, bool kColor, bool kS1,
+            bool kGeneric>
   static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
@@ -323,6 +340,9 @@ struct TileKernelImpl {
         const F fx_blk = F(static_cast<float>(px0));
         [[maybe_unused]] I pixel_color[kVectors];
         [[maybe_unused]] std::uint32_t shaded = 0;
+        // Generic draws: the lanes of each sample that passed the depth test, coloured after.
+        [[maybe_unused]] std::uint64_t passed[kGeneric ? kMaxSamples : 1];
+        if constexpr (kGeneric) std::fill_n(passed, S, std::uint64_t{0});
         // A block the hierarchical z accepts passes every covered sample without the test.
         const std::uint32_t keep = test ? 0u : kLaneBits;
         std::uint64_t written = 0, covered = 0;
@@ -382,7 +402,9 @@ struct TileKernelImpl {
             if constexpr (kColor && !kFlat) {
               if (!pass) continue;
             }
-            if constexpr (kColor) {  // a depth-only draw shades nothing and leaves colour alone
+            if constexpr (kGeneric) {
+              passed[s] |= std::uint64_t{pass} << (v * L);
+            } else if constexpr (kColor) {  // a depth-only draw shades nothing, keeps colour
               I color;
               if constexpr (kFlat) {
                 color = flat_color;
@@ -402,6 +424,9 @@ struct TileKernelImpl {
         }
         // Every covered sample of a block hierarchical z did not reject reaches the depth test.
         const std::uint64_t tested = covered;
+        if constexpr (kGeneric) {
+          if (written) color_generic(cx, t, blk, px0, py0, passed);
+        }
         cx.st.samples_tested += tested;
         cx.st.samples_written += written;
 
@@ -485,6 +510,111 @@ struct TileKernelImpl {
       std::uint32_t a = 0;
       for (int v = 0; v < kVectors; ++v) a |= std::uint32_t{((m >> (v * L)) & kLaneBits) != 0} << v;
       return a;
+    }
+  }
+
+  // --- Generic draws: shaders and blending ---
+
+  /// Vectors per shader batch, and shader batches per block.
+  static constexpr int kBatchVectors = kShaderBatch / L;
+  static constexpr int kBatches = kBlockPixels / kShaderBatch;
+  static_assert(kShaderBatch % L == 0 && kBlockPixels % kShaderBatch == 0);
+  static constexpr std::uint32_t kBatchBits = (1u << kShaderBatch) - 1;
+
+  // shade::blend_over(), lane-wise on packed RGBA8 (the same integer operations).
+  static I blend_over(I src, I dst) {
+    const I byte(0xff), c128(128), c255(255);
+    const I a = (src >> 24) & byte, ia = c255 - a;
+    const auto div255 = [&](I x) {
+      const I u = x + c128;
+      return (u + (u >> 8)) >> 8;
+    };
+    const I r = div255((src & byte) * a + (dst & byte) * ia);
+    const I g = div255(((src >> 8) & byte) * a + ((dst >> 8) & byte) * ia);
+    const I b = div255(((src >> 16) & byte) * a + ((dst >> 16) & byte) * ia);
+    const I al = div255(c255 * a + ((dst >> 24) & byte) * ia);
+    return r | (g << 8) | (b << 16) | (al << 24);
+  }
+
+  // The colours of batch `g` of a block (pixels 16g .. 16g + 15) at offsets (ox, oy) from the
+  // pixel corners: the shader's batch function once, with lanes outside `active` zeroed, or the
+  // setup's colour (shade::shade_one() lane-wise).
+  static void batch_colors(Context& cx, const front::TriangleSetup& t, const shade::DrawShading& sh,
+                           int g, F fx_blk, F fy_blk, F ox, F oy, std::uint32_t active,
+                           I (&out)[kBatchVectors]) {
+    if (!sh.function) {
+      for (int j = 0; j < kBatchVectors; ++j) {
+        const int v = g * kBatchVectors + j;
+        out[j] = shade(t, (fx_blk + cx.colf[v]) + ox, (fy_blk + cx.rowf[v]) + oy);
+      }
+      return;
+    }
+    ShaderInput in;  // filled up to varying_count: the rest is never read
+    ShaderOutput res;
+    for (int j = 0; j < kBatchVectors; ++j) {
+      const int v = g * kBatchVectors + j;
+      const F x = (fx_blk + cx.colf[v]) + ox, y = (fy_blk + cx.rowf[v]) + oy;
+      x.store_aligned(in.x + j * L);
+      y.store_aligned(in.y + j * L);
+      if (sh.varyings > 0) {
+        const auto lanes = M::floats((active >> (j * L)) & kLaneBits);
+        const F q = plane(t.q, t.x0, t.y0, x, y);
+        for (int k = 0; k < sh.varyings; ++k) {
+          const F val =
+              plane(cx.planes[t.varying_base + static_cast<std::uint32_t>(k)], t.x0, t.y0, x, y) /
+              q;
+          xsimd::select(lanes, val, F(0.0f)).store_aligned(in.varying[k] + j * L);
+        }
+      }
+    }
+    in.active = active;
+    in.varying_count = sh.varyings;
+    sh.function(sh.state, in, res);
+    for (int j = 0; j < kBatchVectors; ++j) {
+      const F c255(255.0f);
+      const I r = unorm8(F::load_aligned(res.r + j * L) * c255);
+      const I gg = unorm8(F::load_aligned(res.g + j * L) * c255);
+      const I b = unorm8(F::load_aligned(res.b + j * L) * c255);
+      const I a = unorm8(F::load_aligned(res.a + j * L) * c255);
+      out[j] = r | (gg << 8) | (b << 16) | (a << 24);
+    }
+  }
+
+  // Colours a block of a generic draw where its samples passed: per pixel at the pixel centre
+  // (MSAA; only pixels some sample of which passed are active) or per sample (SSAA), blended
+  // over each sample's colour when the draw blends.
+  static void color_generic(Context& cx, const front::TriangleSetup& t, int blk, int px0, int py0,
+                            const std::uint64_t* passed) {
+    const TileFrame& f = cx.f;
+    const int S = f.samples;
+    const shade::DrawShading& sh = f.shading[t.draw];
+    const bool blend = f.states[t.draw].blend == BlendMode::kSourceOver;
+    std::uint32_t* cblk = cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+    const F fx_blk(static_cast<float>(px0)), fy_blk(static_cast<float>(py0));
+    for (int g = 0; g < kBatches; ++g) {
+      std::uint32_t any = 0;
+      for (int s = 0; s < S; ++s)
+        any |= static_cast<std::uint32_t>(passed[s] >> (g * kShaderBatch)) & kBatchBits;
+      if (!any) continue;
+      I pixel[kBatchVectors];
+      if (!f.ssaa) batch_colors(cx, t, sh, g, fx_blk, fy_blk, F(0.5f), F(0.5f), any, pixel);
+      for (int s = 0; s < S; ++s) {
+        const std::uint32_t bits =
+            static_cast<std::uint32_t>(passed[s] >> (g * kShaderBatch)) & kBatchBits;
+        if (!bits) continue;
+        I sample[kBatchVectors];
+        if (f.ssaa) batch_colors(cx, t, sh, g, fx_blk, fy_blk, cx.ox[s], cx.oy[s], bits, sample);
+        const I* color = f.ssaa ? sample : pixel;
+        for (int j = 0; j < kBatchVectors; ++j) {
+          const std::uint32_t lanes = (bits >> (j * L)) & kLaneBits;
+          if (!lanes) continue;
+          std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + s * kBlockPixels +
+                                                             (g * kBatchVectors + j) * L);
+          const I dst = I::load_aligned(cp);
+          const I c = blend ? blend_over(color[j], dst) : color[j];
+          xsimd::select(M::ints(lanes), c, dst).store_aligned(cp);
+        }
+      }
     }
   }
 
@@ -674,8 +804,23 @@ struct TileKernelImpl {
 
   static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,
                   TileScratch& sc, TileStats& st) {
-    Context cx{f, tile, sc, st, sample_pattern(f.samples), {}, f.clear_depth, f.clear_depth, false,
-               {}, {}, {}, {}, {}, {}, {}};
+    Context cx{f,
+               tile,
+               sc,
+               st,
+               sample_pattern(f.samples),
+               {},
+               f.clear_depth,
+               f.clear_depth,
+               false,
+               {},
+               {},
+               {},
+               {},
+               {},
+               {},
+               {},
+               nullptr};
     for (int v = 0; v < kVectors; ++v) {
       cx.col[v] = lane_col(v);
       cx.row[v] = lane_row(v);
@@ -716,6 +861,7 @@ struct TileKernelImpl {
     }
     for (const BinRun& run : bin) {
       const std::span<const std::uint32_t> idx = run.indices;
+      cx.planes = run.planes;
       for (std::size_t k = 0; k < idx.size(); ++k) {
         // A bin's triangles lie far apart in the setup arrays (a tile takes a sparse subset),
         // so each is a cache miss: fetch the setup kPrefetchAhead triangles ahead while this one

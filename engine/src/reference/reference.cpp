@@ -7,17 +7,19 @@
 #include "raster/depth_test.hpp"
 #include "raster/sample_patterns.hpp"
 #include "resolve/resolve.hpp"
+#include "shade/shading.hpp"
 
 namespace mosaic::reference {
 
 std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int height,
-                                              FrameStats& stats) {
+                                              FrameStats& stats,
+                                              std::vector<front::Plane>* planes) {
   std::vector<front::TriangleSetup> tris;
   front::FrontStats fs;
   for (std::size_t d = 0; d < frame.draws.size(); ++d) {
     const Draw& draw = frame.draws[d];
-    front::run_front_end(draw, static_cast<std::uint32_t>(d), 0, front::triangle_count(draw),
-                         width, height, tris, fs);
+    front::run_front_end(draw, static_cast<std::uint32_t>(d), 0, front::triangle_count(draw), width,
+                         height, tris, fs, planes);
   }
   fs.add_to(stats);
   if (frame.painter) {
@@ -38,7 +40,9 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
   const int W = target.width(), H = target.height(), S = target.samples();
   const auto pattern = raster::sample_pattern(S);
 
-  std::vector<front::TriangleSetup> tris = setup_frame(frame, W, H, stats);
+  std::vector<front::Plane> planes;
+  std::vector<front::TriangleSetup> tris = setup_frame(frame, W, H, stats, &planes);
+  const std::vector<shade::DrawShading> shading = shade::frame_shading(frame.draws);
   const auto t1 = Clock::now();
 
   SampleBuffers buf;
@@ -70,15 +74,24 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
           if (state.depth_write) buf.depth[i] = z;
           ++stats.samples_written;
           if (!state.color_write) continue;  // a depth-only draw: no shading, no colour
+          // A draw with a shader or blending: shade::shade_one(), with the pixel in the lane the
+          // tile kernels give it (pixel p of an 8×8 block is lane p % kShaderBatch).
+          const shade::DrawShading* sh =
+              shading.empty() || !shading[t.draw].generic ? nullptr : &shading[t.draw];
+          const int lane = ((py % 8) * 8 + px % 8) % kShaderBatch;
+          const auto colour_at = [&](float x, float y) {
+            return sh ? shade::shade_one(t, *sh, planes.data(), x, y, lane) : front::shade(t, x, y);
+          };
           Rgba8 c;
           if (frame.ssaa) {
-            c = front::shade(t, fx, fy);
+            c = colour_at(fx, fy);
           } else {
             // MSAA: shade once per pixel, at its centre, whether or not the centre is covered.
-            if (!shaded) pixel_color = front::shade(t, float(px) + 0.5f, float(py) + 0.5f);
+            if (!shaded) pixel_color = colour_at(float(px) + 0.5f, float(py) + 0.5f);
             shaded = true;
             c = pixel_color;
           }
+          if (state.blend == BlendMode::kSourceOver) c = shade::blend_over(c, buf.color[i]);
           buf.color[i] = c;
         }
       }

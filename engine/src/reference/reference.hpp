@@ -24,8 +24,10 @@ struct SampleBuffers {
 FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* samples_out = nullptr);
 
 /// Runs the front end over every draw in order, single-threaded; the painter's sort is applied
-/// when frame.painter is set. Shared by the reference and the tests.
+/// when frame.painter is set. Shared by the reference and the tests. Varying planes of shader
+/// draws go to `planes` when given.
 std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int height,
-                                              FrameStats& stats);
+                                              FrameStats& stats,
+                                              std::vector<front::Plane>* planes = nullptr);
 
 }  // namespace mosaic::reference
