@@ -19,6 +19,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mosaic/errors.hpp"
@@ -327,18 +328,29 @@ constexpr double kMocMsLow = 3.3, kMocMsHigh = 4.4;
 constexpr double kMocAimRatio = 1.5;
 
 void features_table(const Results& r) {
-  const char* const kVariants[] = {"color+depth", "depth-only", "depth-only+hiz", "depth-off",
-                                   "interpolated"};
+  // (case name under features/, what it changes from color+depth)
+  const std::pair<const char*, const char*> kVariants[] = {
+      {"color+depth", "color+depth: flat colour, `less` test with writes (the baseline)"},
+      {"depth-only", "depth-only: colour write off (occluder pass)"},
+      {"depth-only+hiz", "depth-only, keeping the hierarchical z for queries"},
+      {"depth-off", "depth test off: no depth kept"},
+      {"interpolated", "per-vertex colour, interpolated"},
+      {"shader/builtin", "constant colour through the shader cases' own draw"},
+      {"shader/shader", "flat_color_shader: a fragment shader, no varyings"},
+      {"shader/shader+blend", "flat_color_shader with source-over blending"},
+      {"varyings/0", "a shader reading 0 varyings"},
+      {"varyings/4", "a shader reading 4 varyings"},
+      {"varyings/8", "a shader reading 8 varyings"}};
   std::cout << "| variant (random-small, 1 thread) | samples | frame ms | vs color+depth | setup | "
                "binning | raster + resolve |\n|---|---|---|---|---|---|---|\n";
   for (const char* S : {"1x", "4x"}) {
     const Case* base = find(r, std::string("features/color+depth/") + S);
-    for (const char* v : kVariants) {
+    for (const auto& [v, label] : kVariants) {
       const Case* c = find(r, std::string("features/") + v + "/" + S);
       if (!c) continue;
       std::optional<double> ratio;
       if (base && base->ms > 0) ratio = c->ms / base->ms;
-      std::cout << "| " << v << " | " << S << " | " << fmt(c->ms, "%.2f") << " | "
+      std::cout << "| " << label << " | " << S << " | " << fmt(c->ms, "%.2f") << " | "
                 << fmt(ratio, "%.2f×") << " | " << fmt(c->counter("ms_setup"), "%.2f") << " | "
                 << fmt(c->counter("ms_binning"), "%.2f") << " | "
                 << fmt(c->counter("ms_raster"), "%.2f") << " |\n";
