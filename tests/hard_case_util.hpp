@@ -27,11 +27,8 @@ namespace mosaic::hard {
 inline constexpr int kFastThreads = 2;
 
 /// What one path produced for a frame.
-struct Rendered {
+struct Rendered : test::Captured {
   Isa isa = Isa::kReference;
-  std::vector<Rgba8> color, sample_color;
-  std::vector<float> sample_depth;
-  FrameStats stats;
 };
 
 /// A target's clear values and sample count.
@@ -57,11 +54,8 @@ inline Rendered render_on(const std::vector<Mesh>& meshes, const TargetSpec& spe
   ro.isa = isa;
   Renderer renderer(ro);
   Rendered out;
+  static_cast<test::Captured&>(out) = test::capture(renderer, frame, target);
   out.isa = isa;
-  out.stats = renderer.render(frame, target);
-  out.color.assign(target.color().begin(), target.color().end());
-  out.sample_color.assign(target.sample_color().begin(), target.sample_color().end());
-  out.sample_depth.assign(target.sample_depth().begin(), target.sample_depth().end());
   return out;
 }
 

@@ -1,19 +1,24 @@
-// tests/reference_test_util.hpp — helpers shared by the front-end and reference stage tests.
+// tests/reference_test_util.hpp — helpers shared by the stage tests and the fast-path comparisons.
 //
 // Takes: hand-made triangles. Gives: owned meshes, frames rendered by the exact reference through
-// the public API, per-sample coverage read back from the target, and an independent coverage
-// oracle. The oracle and the sample tables are written here again from the specification (the
-// D3D / Vulkan rules and DESIGN.md), not taken from the engine, so that a wrong engine table or
-// a wrong fill-rule bias makes the tests fail instead of agreeing with itself.
+// the public API, per-sample coverage read back from the target, captures of a frame and their
+// bit-for-bit comparison (fast path against reference), and an independent coverage oracle. The
+// oracle and the sample tables are written here again from the specification (the D3D / Vulkan
+// rules and DESIGN.md), not taken from the engine, so that a wrong engine table or a wrong
+// fill-rule bias makes the tests fail instead of agreeing with itself.
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 #include <random>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "mosaic/mosaic.hpp"
@@ -268,5 +273,44 @@ class Rng {
  private:
   std::mt19937_64 gen_;
 };
+
+/// Everything a frame left in a target that keeps its samples, and its stats: what the fast
+/// path must reproduce bit for bit.
+struct Captured {
+  std::vector<Rgba8> color, sample_color;
+  std::vector<float> sample_depth;
+  FrameStats stats;
+};
+
+/// Renders `frame` with `renderer` into `target` (made with TargetOptions{true, true}) and copies
+/// out what it holds.
+inline Captured capture(Renderer& renderer, const Frame& frame, RenderTarget& target) {
+  Captured out;
+  out.stats = renderer.render(frame, target);
+  out.color.assign(target.color().begin(), target.color().end());
+  out.sample_color.assign(target.sample_color().begin(), target.sample_color().end());
+  out.sample_depth.assign(target.sample_depth().begin(), target.sample_depth().end());
+  return out;
+}
+
+/// Bit equality of two captures of the same frame (depth compared as bits, so -0 and NaN
+/// payloads count), with the counters every path shares; `what` names the case in failures.
+inline void expect_same(const Captured& ref, const Captured& fast, const std::string& what) {
+  ASSERT_EQ(ref.stats.samples_written, fast.stats.samples_written) << what;
+  ASSERT_EQ(ref.stats.triangles_drawn, fast.stats.triangles_drawn) << what;
+  ASSERT_EQ(ref.sample_depth.size(), fast.sample_depth.size()) << what;
+  ASSERT_EQ(ref.sample_color.size(), fast.sample_color.size()) << what;
+  ASSERT_EQ(ref.color.size(), fast.color.size()) << what;
+  std::size_t bad_depth = 0, bad_color = 0, bad_pixel = 0;
+  for (std::size_t i = 0; i < ref.sample_depth.size(); ++i)
+    if (std::memcmp(&ref.sample_depth[i], &fast.sample_depth[i], sizeof(float)) != 0) ++bad_depth;
+  for (std::size_t i = 0; i < ref.sample_color.size(); ++i)
+    if (!(ref.sample_color[i] == fast.sample_color[i])) ++bad_color;
+  for (std::size_t i = 0; i < ref.color.size(); ++i)
+    if (!(ref.color[i] == fast.color[i])) ++bad_pixel;
+  EXPECT_EQ(bad_depth, 0u) << what;
+  EXPECT_EQ(bad_color, 0u) << what;
+  EXPECT_EQ(bad_pixel, 0u) << what;
+}
 
 }  // namespace mosaic::test

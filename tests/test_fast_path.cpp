@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mosaic/mosaic.hpp"
+#include "reference_test_util.hpp"
 #include "scenes/rng.hpp"
 
 namespace {
@@ -102,11 +103,7 @@ TestScene make_scene(Shape shape, int w, int h, int count, std::uint64_t seed, b
   return sc;
 }
 
-struct Result {
-  std::vector<mosaic::Rgba8> color, sample_color;
-  std::vector<float> sample_depth;
-  mosaic::FrameStats stats;
-};
+using Result = mosaic::test::Captured;
 
 Result render(const TestScene& sc, int w, int h, int samples, Isa isa, int threads,
               mosaic::DrawState state, bool ssaa = false, bool painter = false) {
@@ -124,12 +121,7 @@ Result render(const TestScene& sc, int w, int h, int samples, Isa isa, int threa
   frame.ssaa = ssaa;
   frame.painter = painter;
   mosaic::Renderer r({threads, isa});
-  Result out;
-  out.stats = r.render(frame, target);
-  out.color.assign(target.color().begin(), target.color().end());
-  out.sample_color.assign(target.sample_color().begin(), target.sample_color().end());
-  out.sample_depth.assign(target.sample_depth().begin(), target.sample_depth().end());
-  return out;
+  return mosaic::test::capture(r, frame, target);
 }
 
 std::vector<Isa> simd_isas() {
@@ -139,22 +131,7 @@ std::vector<Isa> simd_isas() {
   return v;
 }
 
-void expect_same(const Result& ref, const Result& fast, const std::string& what) {
-  ASSERT_EQ(ref.stats.samples_written, fast.stats.samples_written) << what;
-  ASSERT_EQ(ref.stats.triangles_drawn, fast.stats.triangles_drawn) << what;
-  ASSERT_EQ(ref.sample_depth.size(), fast.sample_depth.size()) << what;
-  ASSERT_EQ(ref.sample_color.size(), fast.sample_color.size()) << what;
-  std::size_t bad_depth = 0, bad_color = 0, bad_pixel = 0;
-  for (std::size_t i = 0; i < ref.sample_depth.size(); ++i)
-    if (std::memcmp(&ref.sample_depth[i], &fast.sample_depth[i], sizeof(float)) != 0) ++bad_depth;
-  for (std::size_t i = 0; i < ref.sample_color.size(); ++i)
-    if (!(ref.sample_color[i] == fast.sample_color[i])) ++bad_color;
-  for (std::size_t i = 0; i < ref.color.size(); ++i)
-    if (!(ref.color[i] == fast.color[i])) ++bad_pixel;
-  EXPECT_EQ(bad_depth, 0u) << what;
-  EXPECT_EQ(bad_color, 0u) << what;
-  EXPECT_EQ(bad_pixel, 0u) << what;
-}
+using mosaic::test::expect_same;
 
 struct Case {
   Shape shape;
@@ -326,10 +303,7 @@ MultiResult render_draws(const TestScene& sc, int w, int h, int samples, Isa isa
   frame.keep_hierarchical_z = true;
   mosaic::Renderer r({2, isa});
   MultiResult out;
-  out.r.stats = r.render(frame, target);
-  out.r.color.assign(target.color().begin(), target.color().end());
-  out.r.sample_color.assign(target.sample_color().begin(), target.sample_color().end());
-  out.r.sample_depth.assign(target.sample_depth().begin(), target.sample_depth().end());
+  out.r = mosaic::test::capture(r, frame, target);
   const mosaic::HierarchicalZ& hz = r.hierarchical_z();
   EXPECT_EQ(hz.width(), w);
   EXPECT_EQ(hz.height(), h);

@@ -37,11 +37,7 @@ std::vector<Isa> simd_isas() {
   return v;
 }
 
-struct Image {
-  std::vector<Rgba8> color, sample_color;
-  std::vector<float> sample_depth;
-  FrameStats stats;
-};
+using Image = test::Captured;
 
 constexpr Rgba8 kBackground{10, 20, 30, 255};
 
@@ -54,27 +50,10 @@ Image render(std::span<const Draw> draws, int w, int h, int samples, bool ssaa, 
   frame.ssaa = ssaa;
   frame.painter = painter;
   Renderer r({threads, isa});
-  Image out;
-  out.stats = r.render(frame, target);
-  out.color.assign(target.color().begin(), target.color().end());
-  out.sample_color.assign(target.sample_color().begin(), target.sample_color().end());
-  out.sample_depth.assign(target.sample_depth().begin(), target.sample_depth().end());
-  return out;
+  return test::capture(r, frame, target);
 }
 
-void expect_same(const Image& ref, const Image& fast, const std::string& what) {
-  ASSERT_EQ(ref.stats.samples_written, fast.stats.samples_written) << what;
-  ASSERT_EQ(ref.sample_color.size(), fast.sample_color.size()) << what;
-  std::size_t bad_color = 0, bad_depth = 0, bad_pixel = 0;
-  for (std::size_t i = 0; i < ref.sample_color.size(); ++i)
-    bad_color += !(ref.sample_color[i] == fast.sample_color[i]);
-  for (std::size_t i = 0; i < ref.sample_depth.size(); ++i)
-    bad_depth += std::memcmp(&ref.sample_depth[i], &fast.sample_depth[i], sizeof(float)) != 0;
-  for (std::size_t i = 0; i < ref.color.size(); ++i) bad_pixel += !(ref.color[i] == fast.color[i]);
-  EXPECT_EQ(bad_color, 0u) << what;
-  EXPECT_EQ(bad_depth, 0u) << what;
-  EXPECT_EQ(bad_pixel, 0u) << what;
-}
+using test::expect_same;
 
 // --- The grazing checkerboard ----------------------------------------------------------------
 
