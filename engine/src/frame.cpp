@@ -311,7 +311,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
 
   raster::TileFrame tf;
   tf.states = states;
-  shading = shade::frame_shading(frame.draws);
+  shade::frame_shading(frame.draws, shading);
   tf.shading = shading;
   tf.samples = S;
   tf.ssaa = frame.ssaa;

@@ -42,7 +42,8 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
 
   std::vector<front::Plane> planes;
   std::vector<front::TriangleSetup> tris = setup_frame(frame, W, H, stats, &planes);
-  const std::vector<shade::DrawShading> shading = shade::frame_shading(frame.draws);
+  std::vector<shade::DrawShading> shading;
+  shade::frame_shading(frame.draws, shading);
   const auto t1 = Clock::now();
 
   SampleBuffers buf;

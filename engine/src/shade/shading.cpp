@@ -2,8 +2,8 @@
 
 namespace mosaic::shade {
 
-std::vector<DrawShading> frame_shading(std::span<const Draw> draws) {
-  std::vector<DrawShading> out;
+void frame_shading(std::span<const Draw> draws, std::vector<DrawShading>& out) {
+  out.clear();
   bool any = false;
   for (const Draw& d : draws) {
     DrawShading s;
@@ -15,7 +15,6 @@ std::vector<DrawShading> frame_shading(std::span<const Draw> draws) {
     out.push_back(s);
   }
   if (!any) out.clear();
-  return out;
 }
 
 Rgba8 shade_one(const front::TriangleSetup& t, const DrawShading& s, const front::Plane* planes,

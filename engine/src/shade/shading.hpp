@@ -31,9 +31,10 @@ struct DrawShading {
   bool generic = false;
 };
 
-/// The shading of every draw of a frame; empty when no draw needs the generic path, so that the
-/// kernels test one size per triangle and nothing else.
-std::vector<DrawShading> frame_shading(std::span<const Draw> draws);
+/// Fills `out` with the shading of every draw of a frame; leaves it empty when no draw needs the
+/// generic path, so that the kernels test one size per triangle and nothing else. `out` is the
+/// caller's, so that a renderer reuses its memory frame after frame.
+void frame_shading(std::span<const Draw> draws, std::vector<DrawShading>& out);
 
 /// round(x / 255) for 0 <= x <= 255 · 255, exactly (x / 255 is never a tie: 255 is odd), with
 /// shifts only, so that SIMD lanes compute it the same way: t = x + 128, (t + (t >> 8)) >> 8.
