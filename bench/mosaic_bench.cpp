@@ -223,10 +223,11 @@ struct StageRig {
   tbb::enumerable_thread_specific<mosaic::raster::TileScratch> scratch;
   tbb::enumerable_thread_specific<std::vector<mosaic::raster::BinRun>> runs;
 
-  StageRig(const mosaic::Scene& s, int threads)
+  /// `samples`: the sample count the tiles will be rasterized with, which picks the tile size.
+  StageRig(const mosaic::Scene& s, int samples, int threads)
       : scene(s),
         draws(s.draws()),
-        grid(s.width, s.height),
+        grid(s.width, s.height, mosaic::default_tile_size(samples)),
         parallelism(threads > tbb::info::default_concurrency()
                         ? std::make_unique<tbb::global_control>(
                               tbb::global_control::max_allowed_parallelism,
@@ -278,6 +279,7 @@ struct StageRig {
     mosaic::raster::TileFrame tf;
     tf.states = states;
     tf.samples = target.samples();
+    tf.tile_size = grid.size;
     tf.clear_color = target.clear_color();
     tf.clear_depth = target.clear_depth();
     tf.width = target.width();
@@ -312,7 +314,7 @@ struct StageRig {
 };
 
 void bench_setup(benchmark::State& state, const std::string& scene_name, int threads) {
-  StageRig rig(bench_scene(scene_name), threads);
+  StageRig rig(bench_scene(scene_name), kStageSamples, threads);
   rig.setup();  // warm-up: the chunks' vectors reach their size
   Totals tot;
   for (auto _ : state) {
@@ -323,7 +325,7 @@ void bench_setup(benchmark::State& state, const std::string& scene_name, int thr
 }
 
 void bench_binning(benchmark::State& state, const std::string& scene_name, int threads) {
-  StageRig rig(bench_scene(scene_name), threads);
+  StageRig rig(bench_scene(scene_name), kStageSamples, threads);
   rig.setup();
   rig.binning();
   Totals tot;
@@ -336,7 +338,7 @@ void bench_binning(benchmark::State& state, const std::string& scene_name, int t
 
 void bench_raster(benchmark::State& state, const std::string& scene_name, int samples,
                   int threads) {
-  StageRig rig(bench_scene(scene_name), threads);
+  StageRig rig(bench_scene(scene_name), samples, threads);
   mosaic::RenderTarget target(rig.scene.width, rig.scene.height, samples);
   target.set_clear(rig.scene.clear_color, rig.scene.clear_depth);
   rig.setup();
@@ -358,7 +360,7 @@ void bench_raster(benchmark::State& state, const std::string& scene_name, int sa
 
 void bench_resolve(benchmark::State& state, int samples, int threads) {
   // Any scene will do: only its size and clear values are used.
-  StageRig rig(bench_scene("star"), threads);
+  StageRig rig(bench_scene("star"), samples, threads);
   mosaic::RenderTarget target(rig.scene.width, rig.scene.height, samples);
   target.set_clear(rig.scene.clear_color, rig.scene.clear_depth);
   rig.raster(target, true);

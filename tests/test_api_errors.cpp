@@ -69,6 +69,10 @@ TEST(ApiErrors, RendererOptions) {
   RendererOptions zero;
   zero.threads = 0;
   EXPECT_NO_THROW(Renderer{zero});
+  // Tile sizes: 0 (the renderer's choice) or a power of two from kMinTileSize to kMaxTileSize.
+  for (int size : {-8, 1, 4, 12, 24, 96, 256, 1 << 30})
+    expect_error(Errc::kInvalidArgument, [&] { Renderer r({.tile_size = size}); });
+  for (int size : {0, 8, 16, 32, 64, 128}) EXPECT_NO_THROW(Renderer({.tile_size = size}));
   // Every ISA that available_isas() does not list is refused.
   const std::vector<Isa> have = available_isas();
   ASSERT_FALSE(have.empty());

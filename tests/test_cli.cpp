@@ -345,6 +345,13 @@ TEST_F(CliTest, ThreadsAndIsaDoNotChangeTheImage) {
         "render star --size 16x9 --no-out --isa " + std::string(mosaic::to_string(isa));
     expect_one_line_error(run(args), 1, args);
   }
+  // Every tile size, and the one the renderer picks (reported in the statistics).
+  EXPECT_EQ(stats(scene)["tile_size"], 128);
+  for (int size : {8, 16, 32, 64, 128}) {
+    nlohmann::json j = stats(scene + " --tile-size " + std::to_string(size));
+    EXPECT_EQ(j["tile_size"], size);
+    EXPECT_EQ(j["image_hash"], reference["image_hash"]) << size;
+  }
   nlohmann::json one = stats(scene + " --threads 1");
   nlohmann::json two = stats(scene + " --threads 2");
   EXPECT_EQ(one["image_hash"], reference["image_hash"]);
@@ -432,6 +439,9 @@ TEST_F(CliTest, UsageErrorsAreOneLineAndExitTwo) {
       "render --seed -1",
       "render --isa mmx",
       "render --reference --isa auto",
+      "render --tile-size 24",
+      "render --tile-size 256",
+      "render --tile-size big",
       "render --depth-test sometimes",
       "render --fill-rule vulkan",
       "render --cull sideways",

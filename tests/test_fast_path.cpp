@@ -106,7 +106,8 @@ TestScene make_scene(Shape shape, int w, int h, int count, std::uint64_t seed, b
 using Result = mosaic::test::Captured;
 
 Result render(const TestScene& sc, int w, int h, int samples, Isa isa, int threads,
-              mosaic::DrawState state, bool ssaa = false, bool painter = false) {
+              mosaic::DrawState state, bool ssaa = false, bool painter = false,
+              int tile_size = 0) {
   mosaic::RenderTarget target(w, h, samples, {true, true});
   target.set_clear({10, 20, 30, 255}, state.depth_test == mosaic::DepthTest::kGreater ? 0.f : 1.f);
   mosaic::Draw d;
@@ -120,7 +121,7 @@ Result render(const TestScene& sc, int w, int h, int samples, Isa isa, int threa
   frame.draws = draws;
   frame.ssaa = ssaa;
   frame.painter = painter;
-  mosaic::Renderer r({threads, isa});
+  mosaic::Renderer r({.threads = threads, .isa = isa, .tile_size = tile_size});
   return mosaic::test::capture(r, frame, target);
 }
 
@@ -213,6 +214,44 @@ TEST(FastPath, LargeTargetWithManyChunksMatchesReference) {
   const TestScene sc = make_scene(Shape::kSmall, w, h, 6000, 9, false);
   const Result ref = render(sc, w, h, 1, Isa::kReference, 1, {});
   for (Isa isa : simd_isas()) expect_same(ref, render(sc, w, h, 1, isa, 2, {}), "1917x1083");
+}
+
+// The tile size (RendererOptions::tile_size) changes the work, never the image: every size on a
+// target that none of them divides, for every kind of triangle, sample count and SIMD path.
+TEST(FastPath, EveryTileSizeMatchesReference) {
+  const int w = 333, h = 201;
+  for (const Case& c : {kCases[1], kCases[2], kCases[3], kCases[5]}) {
+    const TestScene sc = make_scene(c.shape, w, h, c.count, 17, true);
+    for (int samples : {1, 4, 16}) {
+      const Result ref = render(sc, w, h, samples, Isa::kReference, 1, {});
+      for (Isa isa : simd_isas()) {
+        for (int size = mosaic::kMinTileSize; size <= mosaic::kMaxTileSize; size *= 2) {
+          SCOPED_TRACE(std::string(c.name) + " " + std::to_string(samples) + "x " +
+                       mosaic::to_string(isa) + " tile " + std::to_string(size));
+          expect_same(ref, render(sc, w, h, samples, isa, 2, {}, false, false, size), "tile size");
+        }
+      }
+    }
+  }
+}
+
+// With no tile size given, the renderer picks one by sample count and reports it.
+TEST(FastPath, DefaultTileSizeFollowsTheSampleCount) {
+  const TestScene sc = make_scene(Shape::kSmall, 200, 100, 50, 3, false);
+  for (int samples : {1, 4, 8, 16}) {
+    mosaic::RenderTarget target(200, 100, samples);
+    mosaic::Draw d;
+    d.space = sc.space;
+    d.positions = sc.positions;
+    d.color_source = sc.source;
+    d.colors = sc.colors;
+    const mosaic::Draw draws[] = {d};
+    mosaic::Renderer auto_size;
+    EXPECT_EQ(auto_size.render({draws}, target).tile_size, mosaic::default_tile_size(samples));
+    EXPECT_EQ(mosaic::default_tile_size(samples), samples <= 4 ? 128 : 64);
+    mosaic::Renderer fixed({.tile_size = 16});
+    EXPECT_EQ(fixed.render({draws}, target).tile_size, 16);
+  }
 }
 
 TEST(FastPath, RecordedCostsCoverEveryTileAndChunkAndLeaveTheImageAlone) {

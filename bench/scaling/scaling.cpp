@@ -55,12 +55,9 @@ constexpr double kSumTolerance = 1e-9;
 // CPU / wall of the 2-thread frames above which both cores count as free for them (a frame
 // also has serial parts, so a free machine gives less than 2).
 constexpr double kTwoCoresFree = 1.5;
-// The default tile edge (MOSAIC_TILE_SIZE), the reference column of --compare.
-constexpr int kDefaultTileSize = 64;
-
 // ---- the `corner` case: a dense mesh in one corner ----
 
-// The dense patch: a square of this many pixels at the top-left corner, one default tile.
+// The dense patch: a square of this many pixels at the top-left corner (one 64 px tile).
 constexpr int kCornerPatchPx = 64;
 // Layers of the patch, drawn back to front so that every layer passes the depth test and writes:
 // the corner holds most of the frame's work.
@@ -139,7 +136,7 @@ struct Measured {
   std::string scene;
   int samples = 1;
   std::uint64_t triangles = 0, triangles_binned = 0;
-  int tile_size = 0;                         // FrameStats::tile_size of the build
+  int tile_size = 0;                         // FrameStats::tile_size the frames used
   std::vector<mosaic::TileCost> tiles;       // ms: median over the cost frames
   std::vector<mosaic::ChunkCost> chunks;     // ms_setup, ms_binning: medians
   std::vector<double> frames_1t, frames_2t;  // wall ms, costs off
@@ -159,6 +156,7 @@ double cpu_ms(clockid_t clock) {
 struct Settings {
   int frames = kDefaultFrames, warmup = kDefaultWarmup;
   mosaic::Isa isa = mosaic::Isa::kAuto;
+  int tile_size = 0;  // RendererOptions::tile_size: 0 lets the renderer choose
 };
 
 mosaic::RenderTarget make_target(const mosaic::Scene& s, int samples) {
@@ -179,7 +177,8 @@ Measured measure(const mosaic::Scene& scene, int samples, const Settings& set) {
 
   // Costs: one thread, costs on; the median of each tile and chunk over the frames.
   {
-    mosaic::Renderer r({.threads = 1, .isa = set.isa, .record_costs = true});
+    mosaic::Renderer r(
+        {.threads = 1, .isa = set.isa, .record_costs = true, .tile_size = set.tile_size});
     for (int i = 0; i < set.warmup; ++i) r.render(frame, target);
     std::vector<std::vector<double>> tile_ms, setup_ms, binning_ms;
     for (int f = 0; f < set.frames; ++f) {
@@ -210,8 +209,8 @@ Measured measure(const mosaic::Scene& scene, int samples, const Settings& set) {
   }
 
   // Real frames: costs off, 1 and 2 threads alternating A B A B, each frame clear to resolve.
-  mosaic::Renderer one({.threads = 1, .isa = set.isa});
-  mosaic::Renderer two({.threads = 2, .isa = set.isa});
+  mosaic::Renderer one({.threads = 1, .isa = set.isa, .tile_size = set.tile_size});
+  mosaic::Renderer two({.threads = 2, .isa = set.isa, .tile_size = set.tile_size});
   auto timed = [&](mosaic::Renderer& r, clockid_t cpu_clock, std::vector<double>* wall,
                    std::vector<double>* cpu) {
     const double c0 = cpu_ms(cpu_clock);
@@ -371,7 +370,7 @@ int compare(const std::vector<std::string>& files, int cores) {
         const auto key =
             std::make_pair(c.at("scene").get<std::string>(), c.at("samples").get<int>());
         Entry e;
-        e.tile_size = j.at("tile_size").get<int>();
+        e.tile_size = c.at("tile_size").get<int>();
         e.tiles = c.at("tiles").size();
         e.cpu_1t = c.at("measured_1t_cpu_ms").get<double>();
         e.wall_1t = c.at("measured_1t_ms").get<double>();
@@ -400,7 +399,7 @@ int compare(const std::vector<std::string>& files, int cores) {
                       " ms | model P=1 ms | real 1T CPU ms | real 1T ms | real 2T ms | |\n"
                       "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
   std::string summary = "| scene | samples | best tile size | model P=" + p +
-                        " ms | (tile 64: ms) | real 1T CPU ms | real 1T ms | real 2T ms |\n"
+                        " ms | (renderer's size: ms) | real 1T CPU ms | real 1T ms | real 2T ms |\n"
                         "|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& key : keys) {
     std::vector<Entry>& es = entries[key];
@@ -409,7 +408,9 @@ int compare(const std::vector<std::string>& files, int cores) {
     const auto best = std::min_element(es.begin(), es.end(), [](const Entry& a, const Entry& b) {
       return a.model_ms < b.model_ms;
     });
-    std::string at64 = "-";
+    // The size the renderer picks by itself for this sample count.
+    const int default_size = mosaic::default_tile_size(key.second);
+    std::string at_default = "-";
     char row[512];
     for (const Entry& e : es) {
       std::snprintf(row, sizeof row,
@@ -417,10 +418,10 @@ int compare(const std::vector<std::string>& files, int cores) {
                     key.first.c_str(), key.second, e.tile_size, e.tiles, e.model_ms, e.lpt_ms,
                     e.model_1, e.cpu_1t, e.wall_1t, e.wall_2t, &e == &*best ? "**best**" : "");
       table += row;
-      if (e.tile_size == kDefaultTileSize) at64 = fmt("%.2f", e.model_ms);
+      if (e.tile_size == default_size) at_default = fmt("%.2f", e.model_ms);
     }
     std::snprintf(row, sizeof row, "| %s | %d | %d | %.2f | %s | %.2f | %.2f | %.2f |\n",
-                  key.first.c_str(), key.second, best->tile_size, best->model_ms, at64.c_str(),
+                  key.first.c_str(), key.second, best->tile_size, best->model_ms, at_default.c_str(),
                   best->cpu_1t, best->wall_1t, best->wall_2t);
     summary += row;
   }
@@ -461,6 +462,10 @@ int main(int argc, char** argv) {
   app.add_option("--warmup", set.warmup, "untimed frames first (default 2)")
       ->check(CLI::Range(0, 100000));
   app.add_option("--isa", isa_name, "instruction set (default auto)");
+  app.add_option("--tile-size", set.tile_size,
+                 "tile edge in pixels, a power of two from 8 to 128 (default 0: the renderer's "
+                 "choice per sample count)")
+      ->check(CLI::IsMember({0, 8, 16, 32, 64, 128}));
   app.add_option("--json", json_path, "write every cost, measurement and modelled time as JSON");
   app.add_option("--compare", compare_files,
                  "instead of measuring: compare JSON files of runs with different tile sizes")
@@ -515,8 +520,6 @@ int main(int argc, char** argv) {
     out["load_average"] = load;
     out["cores"] = cores;
     out["cases"] = json::array();
-    int tile_size = 0;
-
     std::string work =
         "| scene | samples | triangles | chunks | setup ms (largest chunk) | binning ms (largest "
         "chunk) | tiles | tile work ms | largest tile ms | at (x0,y0) px | triangles in it | "
@@ -546,7 +549,6 @@ int main(int argc, char** argv) {
         const std::vector<ModelRow> rows = model(c, cores);
         const std::string what = scene.name + " " + std::to_string(samples) + "x";
         check_invariants(what, c, rows);
-        tile_size = m.tile_size;
 
         const FrameModel& one = rows.front().renderer_order;
         const StageModel& tiles = one.tiles;
@@ -623,6 +625,7 @@ int main(int argc, char** argv) {
         json jc;
         jc["scene"] = scene.name;
         jc["samples"] = samples;
+        jc["tile_size"] = m.tile_size;
         jc["width"] = scene.width;
         jc["height"] = scene.height;
         jc["triangles"] = m.triangles;
@@ -660,13 +663,15 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "mosaic-scaling: %s done\n", what.c_str());
       }
     }
-    out["tile_size"] = tile_size;
+    out["tile_size_option"] = set.tile_size;
 
     std::printf(
-        "mosaic-scaling: tile size %d, %s, %dx%d; load average %.2f at the start (%u hardware "
+        "mosaic-scaling: tile size %s, %s, %dx%d; load average %.2f at the start (%u hardware "
         "threads). Costs: median of %d frames on 1 thread (costs on) after %d warm-up; real "
         "frames: median of %d, 1 and 2 threads alternating, costs off.\n\n",
-        tile_size, mosaic::to_string(probe.isa()), width, height, load,
+        set.tile_size ? (std::to_string(set.tile_size) + " px").c_str()
+                      : "chosen per sample count",
+        mosaic::to_string(probe.isa()), width, height, load,
         std::thread::hardware_concurrency(), set.frames, set.warmup, set.frames);
     std::printf(
         "Work per frame (ms on 1 thread; a tile's cost is clear, rasterize, resolve):\n\n%s",

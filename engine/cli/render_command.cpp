@@ -93,6 +93,7 @@ struct RenderOptions {
   bool stats = false;
   bool reference = false;
   std::string isa = "auto";
+  int tile_size = 0;
 
   // Which options were given (CLI11 keeps the counts on the Option objects).
   CLI::Option* size_opt = nullptr;
@@ -167,6 +168,7 @@ int run_render(const RenderOptions& o) {
   RendererOptions renderer_options;
   renderer_options.threads = o.threads;
   renderer_options.isa = o.reference ? Isa::kReference : isa_names().at(o.isa);
+  renderer_options.tile_size = o.tile_size;
   Renderer renderer(renderer_options);
 
   const std::vector<Draw> draws = scene.draws();
@@ -221,6 +223,7 @@ int run_render(const RenderOptions& o) {
     j["ms_resolve"] = median_of(runs, &FrameStats::ms_resolve);
     j["isa"] = to_string(last.isa);
     j["threads"] = last.threads;
+    j["tile_size"] = last.tile_size;
     j["image_hash"] = hex64(target.image_hash());
     j["output"] = out_path ? nlohmann::ordered_json(*out_path) : nlohmann::ordered_json(nullptr);
     std::cout << j.dump() << std::endl;
@@ -272,6 +275,12 @@ Command add_render_command(CLI::App& parent) {
   CLI::Option* isa = app->add_option("--isa", o->isa, "Instruction set of the tile kernels")
                          ->check(CLI::IsMember(keys_of(isa_names())))
                          ->capture_default_str();
+  app->add_option("--tile-size", o->tile_size,
+                  "Tile edge in pixels of the fast path: 8, 16, 32, 64 or 128; 0 = chosen by the "
+                  "sample count (128 up to 4x, 64 beyond)")
+      ->type_name("N")
+      ->check(CLI::IsMember({0, 8, 16, 32, 64, 128}))
+      ->capture_default_str();
   app->add_flag("--reference", o->reference,
                 "Use the exact scalar reference rasterizer (= --isa reference)")
       ->excludes(isa);

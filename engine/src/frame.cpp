@@ -4,6 +4,7 @@
 // (coverage, hierarchical z, depth, shading) → resolve. Isa::kReference sends the whole frame to
 // the exact scalar oracle instead.
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <functional>
 #include <string>
@@ -108,6 +109,8 @@ void validate(const Frame& frame, const RenderTarget& /*target*/) {
   for (std::size_t d = 0; d < frame.draws.size(); ++d) detail::validate_draw(frame.draws[d], d);
 }
 
+int default_tile_size(int samples) { return raster::tile_size_for(samples); }
+
 std::vector<Isa> available_isas() {
   std::vector<Isa> isas{Isa::kReference};
   for (Isa isa : simd::runnable_isas()) isas.push_back(isa);
@@ -158,6 +161,11 @@ Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
     throw Error(Errc::kInvalidArgument,
                 "thread count " + std::to_string(options.threads) + " is outside 0.." +
                     std::to_string(kMaxThreads));
+  const int ts = options.tile_size;
+  if (ts != 0 && (ts < kMinTileSize || ts > kMaxTileSize || !std::has_single_bit(unsigned(ts))))
+    throw Error(Errc::kInvalidArgument,
+                "tile size " + std::to_string(ts) + " is not 0 (automatic) or a power of two from " +
+                    std::to_string(kMinTileSize) + " to " + std::to_string(kMaxTileSize));
   impl_->options = options;
   const std::vector<Isa> isas = available_isas();
   if (options.isa == Isa::kAuto) {
@@ -229,9 +237,10 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   FrameStats stats;
   stats.isa = isa;
   stats.threads = threads;
-  stats.tile_size = raster::kTileSize;
   const int W = target.width(), H = target.height(), S = target.samples();
-  const bin::TileGrid grid(W, H);
+  const int tile_size = options.tile_size ? options.tile_size : raster::tile_size_for(S);
+  stats.tile_size = tile_size;
+  const bin::TileGrid grid(W, H, tile_size);
 
   // Draw state per draw; the painter's algorithm turns the depth test off everywhere. The
   // buffers the frame uses: colour if a draw writes it (or the target keeps it per sample),
@@ -315,6 +324,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   tf.shading = shading;
   tf.samples = S;
   tf.ssaa = frame.ssaa;
+  tf.tile_size = tile_size;
   tf.clear_color = target.clear_color();
   tf.clear_depth = target.clear_depth();
   tf.width = W;

@@ -68,7 +68,7 @@ struct FrameStats {
   /// Wall-clock milliseconds of each stage and of the whole frame. ms_resolve alone is summed
   /// over the workers (the resolve runs inside each tile's task), so it is thread time.
   double ms_setup = 0, ms_binning = 0, ms_raster = 0, ms_resolve = 0, ms_total = 0;
-  int tile_size = 0;  ///< tile edge in pixels of the fast path (0 for the reference)
+  int tile_size = 0;  ///< tile edge in pixels the fast path used (0 for the reference)
   /// Per-tile and per-chunk costs, in tile and chunk order; filled only when
   /// RendererOptions::record_costs is set (the scaling model of `mosaic-scaling` reads them).
   std::vector<TileCost> tile_costs;
@@ -87,7 +87,21 @@ struct RendererOptions {
   /// Time every tile and front-end chunk into FrameStats::tile_costs / chunk_costs. Costs two
   /// clock reads per tile and chunk; off by default.
   bool record_costs = false;
+  /// Screen tile edge of the fast path in pixels: a power of two from kMinTileSize to
+  /// kMaxTileSize, or 0 to let the renderer choose by the target's sample count (128 px up to 4
+  /// samples, 64 px beyond: README, "Tile sizes"). Only speed depends on it, never the image.
+  int tile_size = 0;
 };
+
+/// Tile edges RendererOptions::tile_size accepts: powers of two (binning divides by shifting)
+/// from the 8×8-pixel block the tile kernels work in up to the largest tile a worker's scratch
+/// memory holds (128² px × 16 samples × 8 bytes = 2 MiB each for colour and depth).
+inline constexpr int kMinTileSize = 8;
+inline constexpr int kMaxTileSize = 128;
+
+/// The tile edge the renderer picks when RendererOptions::tile_size is 0, for a target with
+/// `samples` samples per pixel (1, 4, 8 or 16).
+int default_tile_size(int samples);
 
 /// The instruction sets this build and this CPU can run, best last (kReference always first).
 std::vector<Isa> available_isas();
@@ -100,7 +114,7 @@ inline constexpr int kMaxThreads = 1024;
 class Renderer {
  public:
   /// Throws Error{kUnsupportedIsa} if options.isa cannot run here, and Error{kInvalidArgument}
-  /// for a thread count outside 0..kMaxThreads.
+  /// for a thread count outside 0..kMaxThreads or a tile size RendererOptions does not allow.
   explicit Renderer(RendererOptions options = {});
   /// Releases the worker arena and per-frame memory (and oneTBB's raised worker cap, if any).
   ~Renderer();

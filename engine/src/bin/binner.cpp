@@ -7,25 +7,23 @@ namespace mosaic::bin {
 raster::TileRect TileGrid::rect(int tile) const {
   const int tx = tile % tiles_x, ty = tile / tiles_x;
   raster::TileRect r;
-  r.x0 = tx * raster::kTileSize;
-  r.y0 = ty * raster::kTileSize;
-  r.width = std::min(raster::kTileSize, width - r.x0);
-  r.height = std::min(raster::kTileSize, height - r.y0);
+  r.x0 = tx * size;
+  r.y0 = ty * size;
+  r.width = std::min(size, width - r.x0);
+  r.height = std::min(size, height - r.y0);
   return r;
 }
 
 namespace {
 
-// One tile in 16.8 units: the square every sample of the tile lies in.
-constexpr std::int64_t kTileSpan = std::int64_t{raster::kTileSize} * front::kSubpixelOne;
-
-// True when no edge of `t` rejects the whole tile (tx, ty): the largest value of each edge
-// function over the tile's square, found at one of its corners, must be >= 0.
-bool edges_touch(const front::TriangleSetup& t, int tx, int ty) {
-  const std::int64_t x0 = tx * kTileSpan, y0 = ty * kTileSpan;
+// True when no edge of `t` rejects the whole tile (tx, ty), a square of `span` 16.8 units that
+// holds every sample of the tile: the largest value of each edge function over the square,
+// found at one of its corners, must be >= 0.
+bool edges_touch(const front::TriangleSetup& t, int tx, int ty, std::int64_t span) {
+  const std::int64_t x0 = tx * span, y0 = ty * span;
   for (const front::EdgeFunction& e : t.edge) {
-    const std::int64_t hi = e(x0, y0) + std::max<std::int64_t>(0, e.a * kTileSpan) +
-                            std::max<std::int64_t>(0, e.b * kTileSpan);
+    const std::int64_t hi = e(x0, y0) + std::max<std::int64_t>(0, e.a * span) +
+                            std::max<std::int64_t>(0, e.b * span);
     if (hi < 0) return false;
   }
   return true;
@@ -37,14 +35,16 @@ std::uint64_t bin_chunk(Chunk& c, const TileGrid& grid) {
   const int tiles = grid.count();
   c.offsets.assign(static_cast<std::size_t>(tiles) + 1, 0);
   c.pairs.clear();
+  const int shift = grid.shift;  // (boxes are inside the image: never negative)
+  const std::int64_t span = std::int64_t{grid.size} * front::kSubpixelOne;
   for (std::uint32_t i = 0; i < c.tris.size(); ++i) {
     const front::TriangleSetup& t = c.tris[i];
-    const int tx0 = t.bx0 / raster::kTileSize, tx1 = (t.bx1 - 1) / raster::kTileSize;
-    const int ty0 = t.by0 / raster::kTileSize, ty1 = (t.by1 - 1) / raster::kTileSize;
+    const int tx0 = t.bx0 >> shift, tx1 = (t.bx1 - 1) >> shift;
+    const int ty0 = t.by0 >> shift, ty1 = (t.by1 - 1) >> shift;
     const bool single = tx0 == tx1 && ty0 == ty1;
     for (int ty = ty0; ty <= ty1; ++ty) {
       for (int tx = tx0; tx <= tx1; ++tx) {
-        if (!single && !edges_touch(t, tx, ty)) continue;
+        if (!single && !edges_touch(t, tx, ty, span)) continue;
         const std::uint32_t tile = static_cast<std::uint32_t>(ty * grid.tiles_x + tx);
         c.pairs.push_back(std::uint64_t{tile} << 32 | i);
         ++c.offsets[tile + 1];

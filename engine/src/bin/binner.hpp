@@ -7,6 +7,7 @@
 // submission order without copying — so the image never depends on the thread count.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -16,14 +17,16 @@
 
 namespace mosaic::bin {
 
-/// The screen divided into raster::kTileSize tiles; the last column and row may be partial.
+/// The screen divided into square tiles of `size` pixels; the last column and row may be partial.
 struct TileGrid {
   int width = 0, height = 0;
+  int size = 0;   ///< tile edge in pixels: a power of two, at least raster::kBlockSize
+  int shift = 0;  ///< log2(size): binning divides pixel coordinates by shifting
   int tiles_x = 0, tiles_y = 0;
   TileGrid() = default;
-  TileGrid(int w, int h)
-      : width(w), height(h), tiles_x((w + raster::kTileSize - 1) / raster::kTileSize),
-        tiles_y((h + raster::kTileSize - 1) / raster::kTileSize) {}
+  TileGrid(int w, int h, int tile_size)
+      : width(w), height(h), size(tile_size), shift(std::countr_zero(unsigned(tile_size))),
+        tiles_x((w + size - 1) / size), tiles_y((h + size - 1) / size) {}
   int count() const { return tiles_x * tiles_y; }
   raster::TileRect rect(int tile) const;
 };

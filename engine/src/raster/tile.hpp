@@ -8,31 +8,51 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <iterator>
 #include <memory>
 #include <span>
 
 #include "front/setup.hpp"
 #include "mosaic/draw.hpp"
+#include "mosaic/renderer.hpp"
 #include "mosaic/types.hpp"
 #include "shade/shading.hpp"
 
 namespace mosaic::raster {
 
-/// Tile edge in pixels. 64×64 px × 4 samples × (4 B colour + 4 B depth) = 128 KiB, which stays
-/// in L2 while the tile is worked (DESIGN.md). The build option MOSAIC_TILE_SIZE (a multiple of
-/// kBlockSize) changes it, so that other sizes can be measured (bench/scaling).
-#ifndef MOSAIC_TILE_SIZE
-#define MOSAIC_TILE_SIZE 64
-#endif
-inline constexpr int kTileSize = MOSAIC_TILE_SIZE;
 /// Block edge in pixels: 8×8 = 64 pixels, so one sample of a block is one 64-bit coverage word.
 inline constexpr int kBlockSize = 8;
 inline constexpr int kBlockPixels = kBlockSize * kBlockSize;
-inline constexpr int kBlocksPerTileSide = kTileSize / kBlockSize;
-inline constexpr int kBlocksPerTile = kBlocksPerTileSide * kBlocksPerTileSide;
 inline constexpr int kMaxSamples = 16;
+/// Tiles are chosen per frame (RendererOptions::tile_size, or tile_size_for()); the scratch
+/// memory of a worker is sized for the largest, mosaic::kMaxTileSize.
+inline constexpr int kMaxTileSize = mosaic::kMaxTileSize;
+inline constexpr int kMaxBlocksPerTileSide = kMaxTileSize / kBlockSize;
+inline constexpr int kMaxBlocksPerTile = kMaxBlocksPerTileSide * kMaxBlocksPerTileSide;
+static_assert(mosaic::kMinTileSize == kBlockSize, "tiles are whole blocks");
+
+/// Bytes of sample colour and depth a tile holds per pixel and sample (RGBA8 + float depth).
+inline constexpr int kBytesPerSample = 8;
+/// The most sample memory the automatic tile size lets a tile have: a quarter of the 2 MiB L2 of
+/// a core here, so that the tile's samples, the triangles streaming through and the resolve
+/// output stay in L2 together. Measured (README, "Tile sizes"): 128 px tiles (512 KiB at 4x)
+/// beat 64 px at 1x and 4x; at 16x (2 MiB, the whole L2) they lose, and at 8x (1 MiB) neither
+/// wins on every scene.
+inline constexpr int kAutoTileBytes = 512 * 1024;
+/// The tile sizes the automatic choice picks from, largest first.
+inline constexpr int kAutoTileSizes[] = {128, 64};
+
+/// The tile edge for a frame with `samples` samples per pixel: the largest of kAutoTileSizes
+/// whose samples fit kAutoTileBytes (the smallest if none does).
+constexpr int tile_size_for(int samples) {
+  for (const int size : kAutoTileSizes)
+    if (size * size * samples * kBytesPerSample <= kAutoTileBytes) return size;
+  return kAutoTileSizes[std::size(kAutoTileSizes) - 1];
+}
+static_assert(tile_size_for(1) == 128 && tile_size_for(4) == 128 && tile_size_for(8) == 64 &&
+              tile_size_for(16) == 64);
+
 static_assert(kBlockPixels == 64, "coverage words are 64-bit: one bit per pixel of a block");
-static_assert(kTileSize % kBlockSize == 0);
 
 /// The triangles of one tile: runs of indices into per-chunk setup arrays, in submission order.
 struct BinRun {
@@ -49,6 +69,9 @@ struct TileFrame {
   std::span<const shade::DrawShading> shading;
   int samples = 1;
   bool ssaa = false;
+  /// Tile edge in pixels, a power of two from kBlockSize to kMaxTileSize: every tile but the last
+  /// column and row is this size, and a tile's blocks are numbered row-major, tile_size / 8 a row.
+  int tile_size = kMaxTileSize;
   Rgba8 clear_color;
   float clear_depth = 1.0f;
   int width = 0, height = 0;
@@ -86,19 +109,21 @@ struct TileScratch {
   struct Free {
     void operator()(void* p) const { std::free(p); }
   };
-  static constexpr std::size_t kValues = std::size_t{kBlocksPerTile} * kMaxSamples * kBlockPixels;
+  static constexpr std::size_t kValues = std::size_t{kMaxBlocksPerTile} * kMaxSamples * kBlockPixels;
   std::unique_ptr<std::uint32_t[], Free> color{
       static_cast<std::uint32_t*>(std::aligned_alloc(64, kValues * sizeof(std::uint32_t)))};
   std::unique_ptr<float[], Free> depth{
       static_cast<float*>(std::aligned_alloc(64, kValues * sizeof(float)))};
-  alignas(64) float zmin[kBlocksPerTile];  ///< hierarchical z: nearest depth in the block
-  alignas(64) float zmax[kBlocksPerTile];  ///< hierarchical z: farthest depth in the block
-  alignas(64) std::uint32_t resolved[kTileSize * kTileSize];  ///< the resolved tile, row-major
+  alignas(64) float zmin[kMaxBlocksPerTile];  ///< hierarchical z: nearest depth in the block
+  alignas(64) float zmax[kMaxBlocksPerTile];  ///< hierarchical z: farthest depth in the block
+  /// The resolved tile, row-major, kMaxTileSize pixels a row whatever the tile's size.
+  alignas(64) std::uint32_t resolved[kMaxTileSize * kMaxTileSize];
 };
 
-/// A tile: its origin and its size inside the image (smaller than kTileSize at the edges).
+/// A tile: its origin and its size inside the image (smaller than the frame's tile size at the
+/// image's right and bottom edges).
 struct TileRect {
-  int x0 = 0, y0 = 0, width = kTileSize, height = kTileSize;
+  int x0 = 0, y0 = 0, width = 0, height = 0;
 };
 
 /// One tile kernel per instruction set; see simd/dispatch.hpp.

@@ -109,7 +109,9 @@ struct TileKernelImpl {
     TileScratch& sc;
     TileStats& st;
     std::span<const SampleOffset> pattern;
-    std::uint64_t valid[kBlocksPerTile];  ///< pixels of each block inside the image
+    int side = 0;    ///< blocks per tile row: the frame's tile size / kBlockSize
+    int blocks = 0;  ///< blocks per tile: side²
+    std::uint64_t valid[kMaxBlocksPerTile];  ///< pixels of each block inside the image
     /// Hierarchical z of the whole tile: bounds of its blocks' bounds, always conservative (a
     /// block's bounds widening widens them at once), and rescanned from the blocks only when
     /// some block's bounds narrowed and the loose bounds failed to reject a triangle.
@@ -225,7 +227,7 @@ struct TileKernelImpl {
       }
       if (hidden) {
         for (int by = byb; by < bye; ++by)
-          for (int bx = bxb; bx < bxe; ++bx) cx.st.blocks_hiz_rejected += cx.valid[by * kBlocksPerTileSide + bx] != 0;
+          for (int bx = bxb; bx < bxe; ++bx) cx.st.blocks_hiz_rejected += cx.valid[by * cx.side + bx] != 0;
         return;
       }
     }
@@ -298,7 +300,7 @@ struct TileKernelImpl {
         erow[e] = a[e] * ((std::int64_t{tile.x0} + std::int64_t{row_b} * kBlockSize) * kSubpixel) +
                   b[e] * (std::int64_t{py0} * kSubpixel) + t.edge[e].c;
       for (int bx = row_b; bx < row_e; ++bx) {
-        const int blk = by * kBlocksPerTileSide + bx;
+        const int blk = by * cx.side + bx;
         const std::uint64_t valid = cx.valid[blk];
         // 1. Edge functions at the block's corner, and their extremes over the block: an edge
         // rejects the block before anything else is computed for it.
@@ -621,9 +623,9 @@ struct TileKernelImpl {
   // The tile's depth bounds: the union of its blocks' (blocks outside the image hold the neutral
   // bounds +inf / -inf, see run()).
   static void refresh_tile_z(Context& cx) {
-    constexpr int kVec = kBlocksPerTile / L * L;
+    const int vec = cx.blocks / L * L;
     F lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-    for (int i = 0; i < kVec; i += L) {
+    for (int i = 0; i < vec; i += L) {
       lo = xsimd::min(lo, F::load_aligned(cx.sc.zmin + i));
       hi = xsimd::max(hi, F::load_aligned(cx.sc.zmax + i));
     }
@@ -635,7 +637,7 @@ struct TileKernelImpl {
       l = std::min(l, ls[i]);
       h = std::max(h, hs[i]);
     }
-    for (int i = kVec; i < kBlocksPerTile; ++i) {
+    for (int i = vec; i < cx.blocks; ++i) {
       l = std::min(l, cx.sc.zmin[i]);
       h = std::max(h, cx.sc.zmax[i]);
     }
@@ -685,7 +687,7 @@ struct TileKernelImpl {
     if (f.sample_color || f.sample_depth) {
       for (int y = 0; y < tile.height; ++y) {
         for (int x = 0; x < tile.width; ++x) {
-          const int blk = (y / kBlockSize) * kBlocksPerTileSide + x / kBlockSize;
+          const int blk = (y / kBlockSize) * cx.side + x / kBlockSize;
           const int p = (y % kBlockSize) * kBlockSize + x % kBlockSize;
           const std::size_t out =
               (static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0 + x) * S;
@@ -711,7 +713,7 @@ struct TileKernelImpl {
     const int stride = (f.width + kBlockSize - 1) / kBlockSize;
     for (int by = 0; by * kBlockSize < tile.height; ++by) {
       for (int bx = 0; bx * kBlockSize < tile.width; ++bx) {
-        const int blk = by * kBlocksPerTileSide + bx;
+        const int blk = by * cx.side + bx;
         const std::size_t out = static_cast<std::size_t>(tile.y0 / kBlockSize + by) * stride +
                                 static_cast<std::size_t>(tile.x0 / kBlockSize + bx);
         float lo = f.clear_depth, hi = f.clear_depth;  // a frame without depth holds only these
@@ -761,7 +763,7 @@ struct TileKernelImpl {
     const I round((S / 2) * 0x00010001), even(0x00ff00ff);
     for (int by = 0; by * kBlockSize < tile.height; ++by) {
       for (int bx = 0; bx * kBlockSize < tile.width; ++bx) {
-        const int blk = by * kBlocksPerTileSide + bx;
+        const int blk = by * cx.side + bx;
         const std::int32_t* cblk = reinterpret_cast<const std::int32_t*>(
             cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels);
         for (int v = 0; v < kVectors; ++v) {
@@ -787,7 +789,7 @@ struct TileKernelImpl {
           out.store_aligned(lanes);
           for (int l = 0; l < L; l += kPiece) {
             const int p = v * L + l;
-            std::memcpy(cx.sc.resolved + (by * kBlockSize + p / kBlockSize) * kTileSize +
+            std::memcpy(cx.sc.resolved + (by * kBlockSize + p / kBlockSize) * kMaxTileSize +
                             bx * kBlockSize + p % kBlockSize,
                         lanes + l, sizeof(std::int32_t) * kPiece);
           }
@@ -798,7 +800,7 @@ struct TileKernelImpl {
       // Rgba8 is four bytes in r, g, b, a order, the little-endian layout of the packed words.
       std::memcpy(static_cast<void*>(f.image + static_cast<std::size_t>(tile.y0 + y) * f.width +
                                      tile.x0),
-                  cx.sc.resolved + y * kTileSize, sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
+                  cx.sc.resolved + y * kMaxTileSize, sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
     }
   }
 
@@ -809,6 +811,8 @@ struct TileKernelImpl {
                sc,
                st,
                sample_pattern(f.samples),
+               f.tile_size / kBlockSize,
+               (f.tile_size / kBlockSize) * (f.tile_size / kBlockSize),
                {},
                f.clear_depth,
                f.clear_depth,
@@ -836,7 +840,7 @@ struct TileKernelImpl {
       cx.soff[1][s] = kHalf + o.dy * kSampleOffsetScale;
     }
     // Clear the buffers the frame uses, and the tile's hierarchical z.
-    const std::size_t n = static_cast<std::size_t>(kBlocksPerTile) * f.samples * kBlockPixels;
+    const std::size_t n = static_cast<std::size_t>(cx.blocks) * f.samples * kBlockPixels;
     if (f.keep_color) {
       const I cc(bits_of(f.clear_color));
       for (std::size_t i = 0; i < n; i += L)
@@ -846,9 +850,9 @@ struct TileKernelImpl {
       const F cd(f.clear_depth);
       for (std::size_t i = 0; i < n; i += L) cd.store_aligned(sc.depth.get() + i);
     }
-    for (int blk = 0; blk < kBlocksPerTile; ++blk) {
+    for (int blk = 0; blk < cx.blocks; ++blk) {
       sc.zmin[blk] = sc.zmax[blk] = f.clear_depth;
-      const int bx = blk % kBlocksPerTileSide, by = blk / kBlocksPerTileSide;
+      const int bx = blk % cx.side, by = blk / cx.side;
       const int cols = std::clamp(tile.width - bx * kBlockSize, 0, kBlockSize);
       const int rows = std::clamp(tile.height - by * kBlockSize, 0, kBlockSize);
       std::uint64_t m = 0;
