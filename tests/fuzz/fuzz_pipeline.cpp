@@ -1,9 +1,9 @@
 // tests/fuzz/fuzz_pipeline.cpp — libFuzzer target for the whole pipeline on raw vertex bits.
 //
 // Takes: arbitrary bytes: a 8-byte header (target size 1..64 × 1..64, sample count, space,
-// depth test, culling, fill rule, colour source, index mode) followed by vertices as raw float32
-// bits x y z w (NaN, Inf, denormals and 1e38 included) and, with indices, raw index bytes (some
-// out of range, many repeated). Gives: nothing, or a crash report. The frame must be either
+// depth test, culling, fill rule, colour source, index mode, clear depth, tile size) followed by
+// vertices as raw float32 bits x y z w (NaN, Inf, denormals and 1e38 included) and, with
+// indices, raw index bytes (some out of range, many repeated). Gives: nothing, or a crash report. The frame must be either
 // rejected by validate() — and then render() throws the same error and leaves the target alone —
 // or rendered identically (every sample's colour and depth bit for bit, and the counters) on the
 // reference and on every SIMD path this CPU runs; every written depth lies in [0, 1].
@@ -42,14 +42,21 @@ struct Result {
   mosaic::FrameStats stats;
 };
 
-mosaic::Renderer& renderer(mosaic::Isa isa) {
-  static std::vector<std::pair<mosaic::Isa, std::unique_ptr<mosaic::Renderer>>> cache;
-  for (auto& [i, r] : cache)
-    if (i == isa) return *r;
+// One renderer per (ISA, tile size), kept across inputs: making one starts worker threads.
+mosaic::Renderer& renderer(mosaic::Isa isa, int tile_size) {
+  struct Kept {
+    mosaic::Isa isa;
+    int tile_size;
+    std::unique_ptr<mosaic::Renderer> renderer;
+  };
+  static std::vector<Kept> cache;
+  for (Kept& k : cache)
+    if (k.isa == isa && k.tile_size == tile_size) return *k.renderer;
   const int threads = isa == mosaic::Isa::kReference ? 1 : 2;
-  cache.emplace_back(isa,
-                     std::make_unique<mosaic::Renderer>(mosaic::RendererOptions{threads, isa}));
-  return *cache.back().second;
+  cache.push_back({isa, tile_size,
+                   std::make_unique<mosaic::Renderer>(mosaic::RendererOptions{
+                       .threads = threads, .isa = isa, .tile_size = tile_size})});
+  return *cache.back().renderer;
 }
 
 }  // namespace
@@ -71,6 +78,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const bool indexed = (data[5] & 4) != 0;
   const bool ssaa = (data[5] & 8) != 0;
   const float clear_depth = (data[6] & 1) ? 0.0f : 1.0f;
+  // The fast paths' tile size: the renderer's choice, or 8 to 128 px (tile edges through a
+  // 64 px target).
+  const int tile_code = (data[6] >> 1) % 6;
+  const int tile_size = tile_code == 0 ? 0 : mosaic::kMinTileSize << (tile_code - 1);
   const std::size_t index_count = data[7];
 
   std::vector<glm::vec4> positions;
@@ -110,7 +121,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Result r;
     rejected = false;
     try {
-      r.stats = renderer(isa).render(frame, target);
+      r.stats = renderer(isa, isa == mosaic::Isa::kReference ? 0 : tile_size).render(frame, target);
     } catch (const mosaic::Error& e) {
       rejected = true;
       code = e.code();

@@ -549,7 +549,9 @@ CheckResult check_case(const StressCase& c, const CheckOptions& options) {
   try {
     Renderer reference(RendererOptions{1, Isa::kReference});
     Renderer fast(RendererOptions{options.threads, options.isa});
-    Renderer other(RendererOptions{options.other_threads, options.isa});
+    Renderer other(RendererOptions{.threads = options.other_threads,
+                                 .isa = options.isa,
+                                 .tile_size = options.other_tile_size});
     const Image ref = render(c.mesh, c.width, c.height, c.samples, reference);
     const Image fst = render(c.mesh, c.width, c.height, c.samples, fast);
     if (const std::string d = difference(ref, fst); !d.empty())
@@ -557,9 +559,10 @@ CheckResult check_case(const StressCase& c, const CheckOptions& options) {
                   std::string(mosaic::to_string(fast.isa())) + " differs from the reference: " + d);
     const Image oth = render(c.mesh, c.width, c.height, c.samples, other);
     if (const std::string d = difference(fst, oth); !d.empty())
-      return fail(FailureKind::kThreadMismatch, std::to_string(options.threads) + " and " +
-                                                    std::to_string(options.other_threads) +
-                                                    " threads differ: " + d);
+      return fail(FailureKind::kThreadMismatch,
+                  std::to_string(options.threads) + " threads and " +
+                      std::to_string(options.other_threads) + " threads with " +
+                      std::to_string(options.other_tile_size) + " px tiles differ: " + d);
     const std::size_t all = static_cast<std::size_t>(c.width) * c.height * c.samples;
     if (c.kind == CaseKind::kGrid || c.kind == CaseKind::kFan) {
       const std::size_t cov = covered(ref);
@@ -647,7 +650,9 @@ std::vector<Triangle> reduce_failure(const StressCase& c, const CheckResult& fai
   };
   Renderer reference(RendererOptions{1, Isa::kReference});
   Renderer fast(RendererOptions{options.threads, options.isa});
-  Renderer other(RendererOptions{options.other_threads, options.isa});
+  Renderer other(RendererOptions{.threads = options.other_threads,
+                                 .isa = options.isa,
+                                 .tile_size = options.other_tile_size});
   std::function<bool(const std::vector<std::size_t>&)> fails;
   const DrawState state = c.mesh.state;
   auto image = [&](const std::vector<std::size_t>& idx, Renderer& r) {

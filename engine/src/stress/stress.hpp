@@ -52,7 +52,7 @@ StressCase generate_case(std::uint64_t seed, std::uint64_t index, int msaa = 0);
 enum class FailureKind : std::uint8_t {
   kNone,
   kReferenceMismatch,  ///< the fast path's samples differ from the reference's
-  kThreadMismatch,     ///< two thread counts gave different samples
+  kThreadMismatch,     ///< two thread counts (and tile sizes) gave different samples
   kCoverage,           ///< a grid or fan did not cover every sample exactly once
   kBalance,            ///< a closed mesh's front and back faces covered different samples
   kException,          ///< render() threw
@@ -62,6 +62,9 @@ enum class FailureKind : std::uint8_t {
 struct CheckOptions {
   int threads = 2;        ///< threads of the fast path's main render
   int other_threads = 7;  ///< a second thread count the image must not depend on
+  /// The tile size of that second render (the first uses the renderer's choice): small tiles put
+  /// tile edges through most triangles, where binning and the kernels' clipping to the tile work.
+  int other_tile_size = 16;
   Isa isa = Isa::kAuto;   ///< the fast path checked against the reference
 };
 
