@@ -120,6 +120,12 @@ struct TileKernelImpl {
     I col[kVectors], row[kVectors];       ///< each lane's pixel column and row in its block
     F colf[kVectors], rowf[kVectors];     ///< the same as floats
     F ox[kMaxSamples], oy[kMaxSamples];   ///< sample offset from the pixel corner, in pixels
+    /// Per (sample s, vector v), at index s * kVectors + v, the order of a block's sample memory:
+    /// the lanes' sample positions from the block's corner, col + ox[s] and row + oy[s]. Every
+    /// term and sum is exact in float (multiples of 1/16 below 2^4), so a block's sample position
+    /// corner + sxy[k] equals the reference's (corner + col) + ox[s] bit for bit; the depth loop
+    /// then needs neither s nor v, only the vector's index k.
+    F sx[kMaxSamples * kVectors], sy[kMaxSamples * kVectors];
     std::int64_t soff[2][kMaxSamples];    ///< sample offset from the pixel corner, in 16.8
     const front::Plane* planes = nullptr;  ///< varying planes of the bin run being drawn
   };
@@ -380,18 +386,18 @@ struct TileKernelImpl {
             act |= std::uint64_t{vectors_with_lanes(m)} << ((s - s0) * kVectors);
           }
           for (; act; act &= act - 1) {
-            // Vector i of the group is vector v of sample s: s * kBlockPixels + v * L = i * L.
+            // Vector i of the group is vector k of the block, vector v of sample s:
+            // k * L = s * kBlockPixels + v * L, its place in the block's sample memory.
             const std::size_t i = static_cast<std::size_t>(std::countr_zero(act));
-            const std::size_t s = s0 + i / kVectors, v = i % kVectors;
-            const std::uint32_t lanes = lanes_of(cov, s0 * kVectors + i);
+            const std::size_t k = s0 * kVectors + i;
+            const std::uint32_t lanes = lanes_of(cov, k);
             // Sample positions in pixels (exact in float), then the depth plane of the
             // reference: (base + ddx * (x - x0)) + ddy * (y - y0), clamped.
-            const F cxp = fx_blk + cx.colf[v], cyp = fy_row + cx.rowf[v];
-            const F fx = cxp + (kS1 ? F(0.5f) : cx.ox[s]), fy = cyp + (kS1 ? F(0.5f) : cx.oy[s]);
+            const F fx = fx_blk + cx.sx[k], fy = fy_row + cx.sy[k];
             const F zr = (zb + zdx * (fx - x0)) + zdy * (fy - y0);
             const F zc = xsimd::select(zr > zlo, zr, zlo);
             const F z = xsimd::select(zc < zhi, zc, zhi);
-            float* dp = dblk + (s0 * kVectors + i) * L;
+            float* dp = dblk + k * L;
             std::uint32_t pass = lanes;
             if constexpr (kTest != DepthTest::kAlways || kWrite) {
               const F stored = F::load_aligned(dp);
@@ -405,7 +411,7 @@ struct TileKernelImpl {
               if (!pass) continue;
             }
             if constexpr (kGeneric) {
-              passed[s] |= std::uint64_t{pass} << (v * L);
+              passed[k / kVectors] |= std::uint64_t{pass} << ((k % kVectors) * L);
             } else if constexpr (kColor) {  // a depth-only draw shades nothing, keeps colour
               I color;
               if constexpr (kFlat) {
@@ -413,13 +419,14 @@ struct TileKernelImpl {
               } else if constexpr (kSsaa) {
                 color = shade(t, fx, fy);
               } else {
+                const std::size_t v = k % kVectors;
                 if (!(shaded & (1u << v))) {
-                  pixel_color[v] = shade(t, cxp + F(0.5f), cyp + F(0.5f));
+                  pixel_color[v] = shade(t, fx_blk + cx.colf[v] + F(0.5f), fy_row + cx.rowf[v] + F(0.5f));
                   shaded |= 1u << v;
                 }
                 color = pixel_color[v];
               }
-              std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + s * kBlockPixels + v * L);
+              std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + k * L);
               xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
             }
           }
@@ -824,6 +831,8 @@ struct TileKernelImpl {
                {},
                {},
                {},
+               {},
+               {},
                nullptr};
     for (int v = 0; v < kVectors; ++v) {
       cx.col[v] = lane_col(v);
@@ -838,6 +847,10 @@ struct TileKernelImpl {
       cx.oy[s] = F(0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f));
       cx.soff[0][s] = kHalf + o.dx * kSampleOffsetScale;
       cx.soff[1][s] = kHalf + o.dy * kSampleOffsetScale;
+      for (int v = 0; v < kVectors; ++v) {
+        cx.sx[s * kVectors + v] = cx.colf[v] + cx.ox[s];
+        cx.sy[s * kVectors + v] = cx.rowf[v] + cx.oy[s];
+      }
     }
     // Clear the buffers the frame uses, and the tile's hierarchical z.
     const std::size_t n = static_cast<std::size_t>(cx.blocks) * f.samples * kBlockPixels;
