@@ -95,7 +95,7 @@ struct RendererOptions {
 
 /// Tile edges RendererOptions::tile_size accepts: powers of two (binning divides by shifting)
 /// from the 8×8-pixel block the tile kernels work in up to the largest tile a worker's scratch
-/// memory holds (128² px × 16 samples × 8 bytes = 2 MiB each for colour and depth).
+/// memory holds (128² px × 16 samples × (4 B colour + 4 B depth) = 2 MiB per worker thread).
 inline constexpr int kMinTileSize = 8;
 inline constexpr int kMaxTileSize = 128;
 
