@@ -10,6 +10,17 @@ void tile_kernel_avx2(const raster::TileFrame&, const raster::TileRect&,
 void tile_kernel_avx512(const raster::TileFrame&, const raster::TileRect&,
                         std::span<const raster::BinRun>, raster::TileScratch&, raster::TileStats&);
 
+// Defined in front_*.cpp, each compiled with its own -m flags.
+void front_end_sse41(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
+                     std::vector<front::TriangleSetup>&, front::FrontStats&,
+                     std::vector<front::Plane>*);
+void front_end_avx2(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
+                    std::vector<front::TriangleSetup>&, front::FrontStats&,
+                    std::vector<front::Plane>*);
+void front_end_avx512(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
+                      std::vector<front::TriangleSetup>&, front::FrontStats&,
+                      std::vector<front::Plane>*);
+
 namespace {
 
 // CPUID (and, in libgcc, XCR0 for the AVX register state) through the compiler's builtins.
@@ -41,6 +52,16 @@ raster::TileKernel tile_kernel(Isa isa) {
     case Isa::kSse41: return &tile_kernel_sse41;
     case Isa::kAvx2: return &tile_kernel_avx2;
     case Isa::kAvx512: return &tile_kernel_avx512;
+    default: return nullptr;
+  }
+}
+
+front::FrontEnd front_end(Isa isa) {
+  if (!cpu_has(isa)) return nullptr;
+  switch (isa) {
+    case Isa::kSse41: return &front_end_sse41;
+    case Isa::kAvx2: return &front_end_avx2;
+    case Isa::kAvx512: return &front_end_avx512;
     default: return nullptr;
   }
 }
