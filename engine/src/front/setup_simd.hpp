@@ -24,6 +24,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "front/front_end.hpp"
+#include "simd/mask.hpp"
 
 namespace mosaic::front {
 
@@ -31,16 +32,15 @@ template <class A>
 struct FrontEndSimd {
   using D = xsimd::batch<double, A>;
   using B = xsimd::batch_bool<double, A>;
+  using M = simd::Mask<A>;
   static constexpr int N = static_cast<int>(D::size);  ///< triangles per batch
-
-  /// What became of a lane's triangle; a double so that it is chosen with selects in lanes.
-  enum Fate : int { kDrawn, kOutside, kFace, kDegenerate, kScalar };
+  static constexpr std::uint32_t kAllLanes = (1u << N) - 1;
 
   /// A batch's vertices, structure of arrays: [corner][lane].
   struct Vertices {
     alignas(64) double X[3][N], Y[3][N], Z[3][N], W[3][N];
     alignas(64) double color[3][kColorChannels][N];
-    bool finite[N];
+    std::uint32_t nonfinite = 0;  ///< lanes with a NaN or infinite coordinate
   };
 
   /// A lane's plane before rounding to float.
@@ -50,11 +50,14 @@ struct FrontEndSimd {
 
   /// What the lanes computed, for the scalar store into TriangleSetup.
   struct Results {
-    alignas(64) double fate[N];
+    /// What became of each lane's triangle, one bit per lane, in the order the scalar code tests:
+    /// left to the scalar code, culled by clipping or an empty box (outside), by its facing, or
+    /// of zero area; the lanes in none of these are drawn.
+    std::uint32_t scalar, outside, face, degenerate;
+    std::uint32_t interpolated;  ///< drawn with differing vertex colours: the planes below are set
     alignas(64) double ea[3][N], eb[3][N], ec[3][N];  ///< edge coefficients (integers)
     alignas(64) double bx0[N], by0[N], bx1[N], by1[N];
     alignas(64) double x0[N], y0[N], z_min[N], z_max[N], sort_depth[N];
-    alignas(64) double interpolated[N];  ///< 1 where per-vertex colours differ (planes below set)
     PlaneLanes z, q;
     PlaneLanes c_q[kColorChannels];
   };
@@ -101,6 +104,7 @@ struct FrontEndSimd {
   /// Fetches triangles t0 .. t0 + n - 1 into lanes; the lanes past n repeat lane 0, so that they
   /// compute something harmless (their results are not read).
   static void fetch(const TriangleFrontEnd& scalar, std::uint32_t t0, int n, Vertices& v) {
+    v.nonfinite = 0;
     for (int l = 0; l < N; ++l) {
       const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
       bool ok = true;
@@ -114,7 +118,7 @@ struct FrontEndSimd {
         if (scalar.per_vertex)
           for (int ch = 0; ch < kColorChannels; ++ch) v.color[k][ch][l] = c.color[ch];
       }
-      v.finite[l] = ok;
+      if (!ok) v.nonfinite |= 1u << l;
     }
   }
 
@@ -150,21 +154,16 @@ struct FrontEndSimd {
 
     // The perspective divide (divide() of front_end.cpp). A vertex with W <= 0 or a non-finite
     // result goes to the scalar code, which counts it.
-    D x[3], y[3], q[3];
+    D x[3], y[3], q[3], z[3];
     B divide_ok(true);
-    alignas(64) double zq[3][N];
     for (int k = 0; k < 3; ++k) {
       divide_ok = divide_ok && W[k] > D(0.0);
       q[k] = D(1.0) / W[k];
       x[k] = X[k] * q[k];
       y[k] = Y[k] * q[k];
       divide_ok = divide_ok && finite(x[k]) && finite(y[k]) && finite(q[k]);
-      (Z[k] * q[k]).store_aligned(zq[k]);
+      z[k] = M::to_float(Z[k] * q[k]);  // ScreenVertex::z is a float
     }
-    // Depth is stored as float in ScreenVertex: round each lane through float (a scalar
-    // conversion; lanes of doubles have no portable narrowing to float).
-    for (int k = 0; k < 3; ++k)
-      for (int l = 0; l < N; ++l) zq[k][l] = static_cast<float>(zq[k][l]);
 
     // setup_triangle(): snap, area, culling.
     D px[3], py[3];
@@ -209,15 +208,14 @@ struct FrontEndSimd {
     by1.store_aligned(r.by1);
 
     // Which counter the lane's triangle goes to, in the scalar code's order of tests.
-    const B scalar = !load_finite(v) || (!clip_culled && (outside_any || !divide_ok));
-    D fate = xsimd::select(box_empty, D(kOutside), D(kDrawn));
-    fate = xsimd::select(face, D(kFace), fate);
-    fate = xsimd::select(degenerate, D(kDegenerate), fate);
-    fate = xsimd::select(clip_culled, D(kOutside), fate);
-    fate = xsimd::select(scalar, D(kScalar), fate);
-    fate.store_aligned(r.fate);
-    const B drawn = fate == D(kDrawn);
-    if (!xsimd::any(drawn)) return;
+    r.scalar = v.nonfinite | M::bits(!clip_culled && (outside_any || !divide_ok));
+    const std::uint32_t culled = r.scalar | M::bits(clip_culled);
+    r.degenerate = M::bits(degenerate) & ~culled;
+    r.face = M::bits(face) & ~(culled | r.degenerate);
+    r.outside = (M::bits(clip_culled) & ~r.scalar) |
+                (M::bits(box_empty) & ~(culled | r.degenerate | r.face));
+    r.interpolated = 0;
+    if ((r.scalar | r.outside | r.face | r.degenerate) == kAllLanes) return;  // nothing drawn
 
     // Planes over the oriented corners in pixels (x / 256 is exact: a power of two).
     const D Xs[3] = {ox[0] * D(kPxPerUnit), ox[1] * D(kPxPerUnit), ox[2] * D(kPxPerUnit)};
@@ -225,8 +223,7 @@ struct FrontEndSimd {
     const auto oriented = [&](const D (&a)[3]) {
       return std::array<D, 3>{a[0], xsimd::select(ccw, a[2], a[1]), xsimd::select(ccw, a[1], a[2])};
     };
-    const D zs[3] = {load(zq[0]), load(zq[1]), load(zq[2])};
-    const auto Zo = oriented(zs);
+    const auto Zo = oriented(z);
     const auto Qo = oriented(q);
     const D area_px2 = xsimd::abs(area2) * D(kPxPerUnit * kPxPerUnit);
     Xs[0].store_aligned(r.x0);
@@ -236,7 +233,6 @@ struct FrontEndSimd {
     max3(Zo[0], Zo[1], Zo[2]).store_aligned(r.z_max);
     ((Zo[0] + Zo[1] + Zo[2]) / D(3.0)).store_aligned(r.sort_depth);
 
-    B interpolated(false);
     if (per_vertex) {
       std::array<D, 3> c[kColorChannels];
       B equal(true);
@@ -245,8 +241,8 @@ struct FrontEndSimd {
         c[ch] = oriented(cc);
         equal = equal && c[ch][0] == c[ch][1] && c[ch][0] == c[ch][2];
       }
-      interpolated = drawn && !equal;
-      if (xsimd::any(interpolated)) {
+      r.interpolated = M::bits(!equal);
+      if (r.interpolated) {
         // As setup_triangle(): only ratios of q matter, so the largest is normalised to 1.
         const D qmax = max3(Qo[0], Qo[1], Qo[2]);
         const D qn[3] = {Qo[0] / qmax, Qo[1] / qmax, Qo[2] / qmax};
@@ -256,13 +252,6 @@ struct FrontEndSimd {
                      r.c_q[ch]);
       }
     }
-    xsimd::select(interpolated, D(1.0), D(0.0)).store_aligned(r.interpolated);
-  }
-
-  static B load_finite(const Vertices& v) {
-    alignas(64) double f[N];
-    for (int l = 0; l < N; ++l) f[l] = v.finite[l] ? 1.0 : 0.0;
-    return load(f) == D(1.0);
   }
 
   static Plane plane(const PlaneLanes& p, int l) {
@@ -293,7 +282,7 @@ struct FrontEndSimd {
     ts.flat = true;
     ts.color = flat;
     if (per_vertex) {
-      if (r.interpolated[l] != 0.0) {
+      if (r.interpolated & (1u << l)) {
         ts.q = plane(r.q, l);
         bool ok = finite(ts.q);
         for (int ch = 0; ch < kColorChannels; ++ch) {
@@ -333,24 +322,24 @@ struct FrontEndSimd {
       setup(v, draw.state, width, height, scalar.per_vertex, r);
       for (int l = 0; l < n; ++l) {
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l);
-        const auto fate = static_cast<Fate>(static_cast<int>(r.fate[l]));
-        if (fate == kScalar) {
+        const std::uint32_t bit = 1u << l;
+        if (r.scalar & bit) {
           scalar.run(t);
           continue;
         }
         ++stats.in;
-        switch (fate) {
-          case kOutside: ++stats.outside; break;
-          case kFace: ++stats.culled_face; break;
-          case kDegenerate: ++stats.degenerate; break;
-          default: {
-            const Rgba8 flat =
-                draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
-            store(r, v, l, scalar.per_vertex, flat, draw_index,
-                  varying_base ? static_cast<std::uint32_t>(planes->size()) : 0,
-                  out.emplace_back());
-            ++stats.drawn;
-          }
+        if (r.outside & bit) {
+          ++stats.outside;
+        } else if (r.face & bit) {
+          ++stats.culled_face;
+        } else if (r.degenerate & bit) {
+          ++stats.degenerate;
+        } else {
+          const Rgba8 flat =
+              draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
+          store(r, v, l, scalar.per_vertex, flat, draw_index,
+                varying_base ? static_cast<std::uint32_t>(planes->size()) : 0, out.emplace_back());
+          ++stats.drawn;
         }
       }
     }
