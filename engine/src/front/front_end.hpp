@@ -72,13 +72,7 @@ struct VertexFetch {
     }
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.w))
       return false;
-    if (draw.space == Space::kClip) {
-      out.X = (p.x + p.w) * half_w;
-      out.Y = (p.w - p.y) * half_h;
-    } else {
-      out.X = p.x;
-      out.Y = p.y;
-    }
+    to_window(p.x, p.y, p.w, out.X, out.Y);
     out.Z = p.z;
     out.W = p.w;
     if (draw.color_source == ColorSource::kPerVertex) {
@@ -86,6 +80,19 @@ struct VertexFetch {
       out.color = {double(c.r), double(c.g), double(c.b), double(c.a)};
     }
     return true;
+  }
+
+  /// A clip-space position's window-homogeneous x and y (y down); screen space is already so.
+  /// A template for the SIMD front end, which maps double lanes with it.
+  template <class T>
+  void to_window(T x, T y, T w, T& X, T& Y) const {
+    if (draw.space == Space::kClip) {
+      X = (x + w) * T(half_w);
+      Y = (w - y) * T(half_h);
+    } else {
+      X = x;
+      Y = y;
+    }
   }
 };
 

@@ -41,6 +41,9 @@ struct FrontEndSimd {
     alignas(64) double X[3][N], Y[3][N], Z[3][N], W[3][N];
     alignas(64) double color[3][kColorChannels][N];
     std::uint32_t nonfinite = 0;  ///< lanes with a NaN or infinite coordinate
+    /// X, Y, Z, W hold Draw::positions as they are: setup() does the rest of VertexFetch (the
+    /// non-finite test and the viewport map) in lanes.
+    bool raw = false;
   };
 
   /// A lane's plane before rounding to float.
@@ -104,7 +107,30 @@ struct FrontEndSimd {
   /// Fetches triangles t0 .. t0 + n - 1 into lanes; the lanes past n repeat lane 0, so that they
   /// compute something harmless (their results are not read).
   static void fetch(const TriangleFrontEnd& scalar, std::uint32_t t0, int n, Vertices& v) {
+    const Draw& draw = scalar.fetch.draw;
     v.nonfinite = 0;
+    v.raw = draw.positions_xyz.empty();
+    if (v.raw) {  // the common case, where VertexFetch's remaining work is cheaper in lanes
+      for (int l = 0; l < N; ++l) {
+        const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t i = scalar.fetch.vertex(t, k);
+          const glm::vec4 p = draw.positions[i];
+          v.X[k][l] = p.x;
+          v.Y[k][l] = p.y;
+          v.Z[k][l] = p.z;
+          v.W[k][l] = p.w;
+          if (scalar.per_vertex) {
+            const Rgba8 c = draw.colors[i];
+            v.color[k][0][l] = c.r;
+            v.color[k][1][l] = c.g;
+            v.color[k][2][l] = c.b;
+            v.color[k][3][l] = c.a;
+          }
+        }
+      }
+      return;
+    }
     for (int l = 0; l < N; ++l) {
       const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
       bool ok = true;
@@ -123,8 +149,9 @@ struct FrontEndSimd {
   }
 
   /// clip_triangle()'s classification, the perspective divide and setup_triangle(), in lanes.
-  static void setup(const Vertices& v, const DrawState& state, int width, int height,
+  static void setup(const Vertices& v, const VertexFetch& fetch, int width, int height,
                     bool per_vertex, Results& r) {
+    const DrawState& state = fetch.draw.state;
     constexpr double kGuard = kGuardBandPx;
     const D w(static_cast<double>(width)), h(static_cast<double>(height));
     D X[3], Y[3], Z[3], W[3];
@@ -133,6 +160,13 @@ struct FrontEndSimd {
       Y[k] = load(v.Y[k]);
       Z[k] = load(v.Z[k]);
       W[k] = load(v.W[k]);
+    }
+    std::uint32_t nonfinite = v.nonfinite;
+    if (v.raw) {
+      for (int k = 0; k < 3; ++k) {
+        nonfinite |= M::bits(!(finite(X[k]) && finite(Y[k]) && finite(Z[k]) && finite(W[k])));
+        fetch.to_window(X[k], Y[k], W[k], X[k], Y[k]);
+      }
     }
     // clip_triangle(): culled when all three vertices are beyond one side of the viewport (or
     // the near or far plane); inside when every vertex is inside every clip plane.
@@ -208,7 +242,7 @@ struct FrontEndSimd {
     by1.store_aligned(r.by1);
 
     // Which counter the lane's triangle goes to, in the scalar code's order of tests.
-    r.scalar = v.nonfinite | M::bits(!clip_culled && (outside_any || !divide_ok));
+    r.scalar = nonfinite | M::bits(!clip_culled && (outside_any || !divide_ok));
     const std::uint32_t culled = r.scalar | M::bits(clip_culled);
     r.degenerate = M::bits(degenerate) & ~culled;
     r.face = M::bits(face) & ~(culled | r.degenerate);
@@ -319,7 +353,7 @@ struct FrontEndSimd {
     for (std::uint32_t t0 = begin; t0 < end; t0 += N) {
       const int n = static_cast<int>(std::min<std::uint32_t>(N, end - t0));
       fetch(scalar, t0, n, v);
-      setup(v, draw.state, width, height, scalar.per_vertex, r);
+      setup(v, scalar.fetch, width, height, scalar.per_vertex, r);
       for (int l = 0; l < n; ++l) {
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l);
         const std::uint32_t bit = 1u << l;
