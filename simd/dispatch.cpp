@@ -37,6 +37,18 @@ bool cpu_has(Isa isa) {
   }
 }
 
+// The function of `isa` among one per instruction set, or nullptr where the CPU lacks it.
+template <class F>
+F pick(Isa isa, F sse41, F avx2, F avx512) {
+  if (!cpu_has(isa)) return nullptr;
+  switch (isa) {
+    case Isa::kSse41: return sse41;
+    case Isa::kAvx2: return avx2;
+    case Isa::kAvx512: return avx512;
+    default: return nullptr;
+  }
+}
+
 }  // namespace
 
 std::vector<Isa> runnable_isas() {
@@ -47,23 +59,11 @@ std::vector<Isa> runnable_isas() {
 }
 
 raster::TileKernel tile_kernel(Isa isa) {
-  if (!cpu_has(isa)) return nullptr;
-  switch (isa) {
-    case Isa::kSse41: return &tile_kernel_sse41;
-    case Isa::kAvx2: return &tile_kernel_avx2;
-    case Isa::kAvx512: return &tile_kernel_avx512;
-    default: return nullptr;
-  }
+  return pick<raster::TileKernel>(isa, &tile_kernel_sse41, &tile_kernel_avx2, &tile_kernel_avx512);
 }
 
 front::FrontEnd front_end(Isa isa) {
-  if (!cpu_has(isa)) return nullptr;
-  switch (isa) {
-    case Isa::kSse41: return &front_end_sse41;
-    case Isa::kAvx2: return &front_end_avx2;
-    case Isa::kAvx512: return &front_end_avx512;
-    default: return nullptr;
-  }
+  return pick<front::FrontEnd>(isa, &front_end_sse41, &front_end_avx2, &front_end_avx512);
 }
 
 }  // namespace mosaic::simd

@@ -75,11 +75,14 @@ struct VertexFetch {
     to_window(p.x, p.y, p.w, out.X, out.Y);
     out.Z = p.z;
     out.W = p.w;
-    if (draw.color_source == ColorSource::kPerVertex) {
-      const Rgba8 c = draw.colors[i];
-      out.color = {double(c.r), double(c.g), double(c.b), double(c.a)};
-    }
+    if (draw.color_source == ColorSource::kPerVertex) out.color = color(i);
     return true;
+  }
+
+  /// Vertex `i`'s colour as ClipVertex::color holds it.
+  std::array<double, kColorChannels> color(std::uint32_t i) const {
+    const Rgba8 c = draw.colors[i];
+    return {double(c.r), double(c.g), double(c.b), double(c.a)};
   }
 
   /// A clip-space position's window-homogeneous x and y (y down); screen space is already so.

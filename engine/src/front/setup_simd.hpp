@@ -104,6 +104,10 @@ struct FrontEndSimd {
     ddy.store_aligned(out.ddy);
   }
 
+  static void store_color(Vertices& v, int k, int l, const std::array<double, kColorChannels>& c) {
+    for (int ch = 0; ch < kColorChannels; ++ch) v.color[k][ch][l] = c[ch];
+  }
+
   /// Fetches triangles t0 .. t0 + n - 1 into lanes; the lanes past n repeat lane 0, so that they
   /// compute something harmless (their results are not read).
   static void fetch(const TriangleFrontEnd& scalar, std::uint32_t t0, int n, Vertices& v) {
@@ -120,13 +124,7 @@ struct FrontEndSimd {
           v.Y[k][l] = p.y;
           v.Z[k][l] = p.z;
           v.W[k][l] = p.w;
-          if (scalar.per_vertex) {
-            const Rgba8 c = draw.colors[i];
-            v.color[k][0][l] = c.r;
-            v.color[k][1][l] = c.g;
-            v.color[k][2][l] = c.b;
-            v.color[k][3][l] = c.a;
-          }
+          if (scalar.per_vertex) store_color(v, k, l, scalar.fetch.color(i));
         }
       }
       return;
@@ -141,8 +139,7 @@ struct FrontEndSimd {
         v.Y[k][l] = c.Y;
         v.Z[k][l] = c.Z;
         v.W[k][l] = c.W;
-        if (scalar.per_vertex)
-          for (int ch = 0; ch < kColorChannels; ++ch) v.color[k][ch][l] = c.color[ch];
+        if (scalar.per_vertex) store_color(v, k, l, c.color);
       }
       if (!ok) v.nonfinite |= 1u << l;
     }
