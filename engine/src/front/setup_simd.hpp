@@ -345,11 +345,23 @@ struct FrontEndSimd {
     }
     // A shader draw without varyings still gets its (empty) varying range from setup_varyings().
     const bool varying_base = scalar.shader && planes;
-    Vertices v;
+    // Batch i is fetched into vertices[i % 2] while batch i - 1 is set up. setup()'s vector loads
+    // then find fetch()'s scalar stores in the cache rather than still in flight: a load that
+    // spans several in-flight stores waits for them all (store forwarding fails). With the build
+    // flag of simd/CMakeLists.txt that removes the same wait inside setup(), ms_setup on
+    // random-small (1 thread) went from 6.6 to 6.0 ms on AVX2, 5.2 to 5.1 ms on AVX-512.
+    Vertices vertices[2];
     Results r;
-    for (std::uint32_t t0 = begin; t0 < end; t0 += N) {
-      const int n = static_cast<int>(std::min<std::uint32_t>(N, end - t0));
-      fetch(scalar, t0, n, v);
+    const auto batch_size = [&](std::uint32_t t0) {
+      return static_cast<int>(std::min<std::uint32_t>(N, end - t0));
+    };
+    if (begin < end) fetch(scalar, begin, batch_size(begin), vertices[0]);
+    int cur = 0;
+    for (std::uint32_t t0 = begin; t0 < end; t0 += N, cur ^= 1) {
+      const int n = batch_size(t0);
+      if (end - t0 > static_cast<std::uint32_t>(N))
+        fetch(scalar, t0 + N, batch_size(t0 + N), vertices[cur ^ 1]);
+      const Vertices& v = vertices[cur];
       setup(v, scalar.fetch, width, height, scalar.per_vertex, r);
       for (int l = 0; l < n; ++l) {
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l);
