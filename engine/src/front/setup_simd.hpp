@@ -119,7 +119,7 @@ struct FrontEndSimd {
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
         for (int k = 0; k < 3; ++k) {
           const std::uint32_t i = scalar.fetch.vertex(t, k);
-          const glm::vec4 p = draw.positions[i];
+          const glm::vec4& p = draw.positions[i];  // by value, GCC moved it through the stack
           v.X[k][l] = p.x;
           v.Y[k][l] = p.y;
           v.Z[k][l] = p.z;
