@@ -234,22 +234,33 @@ TEST(FrontSimd, ClipSpaceThroughPerspectiveFallsBackWhereClipped) {
   glm::mat4 proj = glm::perspective(1.2f, float(kWidth) / kHeight, 0.5f, 100.0f);
   // To the renderer's depth range [0, 1] (clip.hpp: near Z >= 0, far Z <= W).
   const glm::mat4 to_unit_depth(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 1);
-  Draw d;
-  d.space = Space::kClip;
-  d.positions_xyz = xyz;
-  d.transform = to_unit_depth * proj;
-  for (ColorSource source : {ColorSource::kConstant, ColorSource::kPerVertex}) {
-    d.color_source = source;
-    d.colors = source == ColorSource::kPerVertex ? std::span<const Rgba8>(colors)
-                                                 : std::span<const Rgba8>();
-    for (bool indexed : {false, true}) {
-      SCOPED_TRACE(testing::Message() << "source " << int(source) << " indexed " << indexed);
-      d.indices = indexed ? std::span<const std::uint32_t>(indices)
-                          : std::span<const std::uint32_t>();
-      const front::FrontStats s = expect_same(d);
-      EXPECT_GT(s.clipped, 0u);
-      EXPECT_GT(s.outside, 0u);
-      EXPECT_GT(s.drawn, s.clipped);
+  const glm::mat4 transform = to_unit_depth * proj;
+  // The same vertices already in clip space (Draw::positions, which the lanes fetch themselves).
+  std::vector<glm::vec4> clip;
+  for (const glm::vec3& p : xyz) clip.push_back(transform * glm::vec4(p, 1.0f));
+  for (bool pretransformed : {false, true}) {
+    Draw d;
+    d.space = Space::kClip;
+    if (pretransformed) {
+      d.positions = clip;
+    } else {
+      d.positions_xyz = xyz;
+      d.transform = transform;
+    }
+    for (ColorSource source : {ColorSource::kConstant, ColorSource::kPerVertex}) {
+      d.color_source = source;
+      d.colors = source == ColorSource::kPerVertex ? std::span<const Rgba8>(colors)
+                                                   : std::span<const Rgba8>();
+      for (bool indexed : {false, true}) {
+        SCOPED_TRACE(testing::Message() << "source " << int(source) << " indexed " << indexed
+                                        << " pretransformed " << pretransformed);
+        d.indices = indexed ? std::span<const std::uint32_t>(indices)
+                            : std::span<const std::uint32_t>();
+        const front::FrontStats s = expect_same(d);
+        EXPECT_GT(s.clipped, 0u);
+        EXPECT_GT(s.outside, 0u);
+        EXPECT_GT(s.drawn, s.clipped);
+      }
     }
   }
 }

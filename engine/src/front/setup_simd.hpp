@@ -290,10 +290,6 @@ struct FrontEndSimd {
             static_cast<float>(p.ddy[l])};
   }
 
-  static bool finite(const Plane& p) {
-    return std::isfinite(p.base) && std::isfinite(p.ddx) && std::isfinite(p.ddy);
-  }
-
   /// Writes lane l's drawn triangle as setup_triangle() and TriangleFrontEnd::run() would.
   static void store(const Results& r, const Vertices& v, int l, bool per_vertex, Rgba8 flat,
                     std::uint32_t draw_index, std::uint32_t varying_base, TriangleSetup& ts) {
@@ -315,10 +311,10 @@ struct FrontEndSimd {
     if (per_vertex) {
       if (r.interpolated & (1u << l)) {
         ts.q = plane(r.q, l);
-        bool ok = finite(ts.q);
+        bool ok = is_finite(ts.q);
         for (int ch = 0; ch < kColorChannels; ++ch) {
           ts.c_q[ch] = plane(r.c_q[ch], l);
-          ok = ok && finite(ts.c_q[ch]);
+          ok = ok && is_finite(ts.c_q[ch]);
         }
         ts.flat = !ok;
       }
