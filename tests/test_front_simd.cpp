@@ -297,6 +297,42 @@ TEST(FrontSimd, NonFiniteAndEyePointVerticesFallBack) {
   EXPECT_GT(clip.nonfinite, 0u);
 }
 
+// Vertices drawn from awkward values: snapping ties (odd multiples of 1/512 px, either sign), the
+// edges of the target and of the guard band, huge and tiny magnitudes, signed zeros, and W other
+// than 1 (clip space), in random combinations, with per-vertex colours.
+TEST(FrontSimd, SnapTiesGuardBandAndExtremeMagnitudes) {
+  const float xs[] = {0.0f,        -0.0f,        1.0f / 512,  -1.0f / 512, 10.0f + 3.0f / 512,
+                      -7.0f - 1.0f / 512, 319.99f, 320.0f,  320.5f,      199.998046875f,
+                      200.0f,      32767.998f,   32768.0f,    -32768.0f,   40000.0f,
+                      1e30f,       -1e30f,       1e-30f,      3.5f,        150.25f};
+  const float zs[] = {0.0f, -0.0f, 0.5f, 1.0f, 1e-40f, 0.999999f};
+  const float ws[] = {1.0f, 1.0f, 1.0f, 0.5f, 2.0f, 1e-3f, 1e3f};
+  std::mt19937 rng(11);
+  const auto pick = [&](const auto& values) { return values[rng() % std::size(values)]; };
+  std::vector<glm::vec4> p;
+  std::vector<Rgba8> colors;
+  for (int t = 0; t < 4000; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      // Mostly near one point, so that many triangles are small and drawn.
+      const float base_x = pick(xs), base_y = pick(xs);
+      p.emplace_back(k == 0 || rng() % 2 ? base_x : base_x + pick(xs) / 64,
+                     k == 0 || rng() % 2 ? base_y : base_y + pick(xs) / 64, pick(zs), pick(ws));
+      colors.push_back({static_cast<std::uint8_t>(rng() % 3), 40, static_cast<std::uint8_t>(k), 255});
+    }
+  }
+  for (Space space : {Space::kScreen, Space::kClip}) {
+    SCOPED_TRACE(testing::Message() << "space " << int(space));
+    Draw d;
+    d.space = space;
+    d.positions = p;
+    d.color_source = ColorSource::kPerVertex;
+    d.colors = colors;
+    const front::FrontStats s = expect_same(d);
+    EXPECT_GT(s.drawn, 0u);
+    EXPECT_GT(s.clipped, 0u);
+  }
+}
+
 // Shader draws: without varyings the lanes set them up (with an empty varying range at the
 // planes' end), with varyings the scalar code does.
 TEST(FrontSimd, ShaderDrawsWithAndWithoutVaryings) {
