@@ -220,6 +220,7 @@ struct StageRig {
   std::unique_ptr<tbb::global_control> parallelism;  // outlives the arena
   tbb::task_arena arena;
   mosaic::raster::TileKernel kernel = nullptr;
+  mosaic::front::FrontEnd front_end = nullptr;  ///< the SIMD front end of the kernel's ISA
   tbb::enumerable_thread_specific<mosaic::raster::TileScratch> scratch;
   tbb::enumerable_thread_specific<std::vector<mosaic::raster::BinRun>> runs;
 
@@ -234,7 +235,8 @@ struct StageRig {
                               static_cast<std::size_t>(threads))
                         : nullptr),
         arena(threads),
-        kernel(mosaic::simd::tile_kernel(mosaic::available_isas().back())) {
+        kernel(mosaic::simd::tile_kernel(mosaic::available_isas().back())),
+        front_end(mosaic::simd::front_end(mosaic::available_isas().back())) {
     for (const mosaic::Draw& d : draws) states.push_back(d.state);
     for (std::uint32_t d = 0; d < draws.size(); ++d) {
       const std::uint32_t n = mosaic::front::triangle_count(draws[d]);
@@ -251,8 +253,8 @@ struct StageRig {
         chunks[i].tris.clear();
         chunks[i].planes.clear();
         mosaic::front::FrontStats fs;
-        mosaic::front::run_front_end(draws[j.draw], j.draw, j.begin, j.end, scene.width,
-                                     scene.height, chunks[i].tris, fs, &chunks[i].planes);
+        front_end(draws[j.draw], j.draw, j.begin, j.end, scene.width, scene.height,
+                  chunks[i].tris, fs, &chunks[i].planes);
       });
     });
   }

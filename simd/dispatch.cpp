@@ -10,6 +10,17 @@ void tile_kernel_avx2(const raster::TileFrame&, const raster::TileRect&,
 void tile_kernel_avx512(const raster::TileFrame&, const raster::TileRect&,
                         std::span<const raster::BinRun>, raster::TileScratch&, raster::TileStats&);
 
+// Defined in front_*.cpp, each compiled with its own -m flags.
+void front_end_sse41(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
+                     std::vector<front::TriangleSetup>&, front::FrontStats&,
+                     std::vector<front::Plane>*);
+void front_end_avx2(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
+                    std::vector<front::TriangleSetup>&, front::FrontStats&,
+                    std::vector<front::Plane>*);
+void front_end_avx512(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
+                      std::vector<front::TriangleSetup>&, front::FrontStats&,
+                      std::vector<front::Plane>*);
+
 namespace {
 
 // CPUID (and, in libgcc, XCR0 for the AVX register state) through the compiler's builtins.
@@ -26,6 +37,18 @@ bool cpu_has(Isa isa) {
   }
 }
 
+// The function of `isa` among one per instruction set, or nullptr where the CPU lacks it.
+template <class F>
+F pick(Isa isa, F sse41, F avx2, F avx512) {
+  if (!cpu_has(isa)) return nullptr;
+  switch (isa) {
+    case Isa::kSse41: return sse41;
+    case Isa::kAvx2: return avx2;
+    case Isa::kAvx512: return avx512;
+    default: return nullptr;
+  }
+}
+
 }  // namespace
 
 std::vector<Isa> runnable_isas() {
@@ -36,13 +59,11 @@ std::vector<Isa> runnable_isas() {
 }
 
 raster::TileKernel tile_kernel(Isa isa) {
-  if (!cpu_has(isa)) return nullptr;
-  switch (isa) {
-    case Isa::kSse41: return &tile_kernel_sse41;
-    case Isa::kAvx2: return &tile_kernel_avx2;
-    case Isa::kAvx512: return &tile_kernel_avx512;
-    default: return nullptr;
-  }
+  return pick<raster::TileKernel>(isa, &tile_kernel_sse41, &tile_kernel_avx2, &tile_kernel_avx512);
+}
+
+front::FrontEnd front_end(Isa isa) {
+  return pick<front::FrontEnd>(isa, &front_end_sse41, &front_end_avx2, &front_end_avx512);
 }
 
 }  // namespace mosaic::simd

@@ -1,8 +1,10 @@
-// simd/dispatch.hpp — which tile kernels this build has, which this CPU runs, and picking one.
+// simd/dispatch.hpp — which tile kernels and SIMD front ends this build has, which this CPU runs,
+// and picking one.
 #pragma once
 
 #include <vector>
 
+#include "front/front_end.hpp"
 #include "mosaic/types.hpp"
 #include "raster/tile.hpp"
 
@@ -13,5 +15,9 @@ std::vector<Isa> runnable_isas();
 
 /// The tile kernel for `isa` (one of runnable_isas()), or nullptr.
 raster::TileKernel tile_kernel(Isa isa);
+
+/// The SIMD front end for `isa` (one of runnable_isas()), or nullptr. It gives exactly what
+/// front::run_front_end() gives (front/setup_simd.hpp).
+front::FrontEnd front_end(Isa isa);
 
 }  // namespace mosaic::simd

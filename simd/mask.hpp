@@ -2,6 +2,7 @@
 //
 // xsimd 8 has no portable batch_bool <-> bit-mask conversion, so this is where the
 // instructions are named: movmskps on SSE and AVX2, k-registers on AVX-512. Lane i is bit i.
+// Also here, for the same reason: rounding double lanes to float precision (to_float()).
 #pragma once
 
 #include <cstdint>
@@ -22,6 +23,14 @@ struct Mask<xsimd::avx512bw> {
   }
   static std::uint32_t bits(const xsimd::batch_bool<float, A>& m) {
     return static_cast<__mmask16>(m);
+  }
+  static std::uint32_t bits(const xsimd::batch_bool<double, A>& m) {
+    return static_cast<__mmask8>(m);
+  }
+  /// Each lane rounded to float and back. (A generic store, convert-each-lane, load is folded
+  /// away entirely by GCC 12 at -O3, which is wrong: found by test_front_simd.)
+  static xsimd::batch<double, A> to_float(const xsimd::batch<double, A>& v) {
+    return _mm512_cvtps_pd(_mm512_cvtpd_ps(v));
   }
   /// Lanes whose sign bit is set.
   static std::uint32_t signs(const xsimd::batch<std::int32_t, A>& v) {
@@ -48,6 +57,13 @@ struct Mask<xsimd::avx2> {
   }
   static std::uint32_t bits(const xsimd::batch_bool<float, A>& m) {
     return static_cast<std::uint32_t>(_mm256_movemask_ps(m));
+  }
+  static std::uint32_t bits(const xsimd::batch_bool<double, A>& m) {
+    return static_cast<std::uint32_t>(_mm256_movemask_pd(m));
+  }
+  /// Each lane rounded to float and back (see Mask<avx512bw>::to_float).
+  static xsimd::batch<double, A> to_float(const xsimd::batch<double, A>& v) {
+    return _mm256_cvtps_pd(_mm256_cvtpd_ps(v));
   }
   /// Lanes whose sign bit is set.
   static std::uint32_t signs(const xsimd::batch<std::int32_t, A>& v) {
@@ -77,6 +93,13 @@ struct Mask<xsimd::sse4_1> {
   }
   static std::uint32_t bits(const xsimd::batch_bool<float, A>& m) {
     return static_cast<std::uint32_t>(_mm_movemask_ps(m));
+  }
+  static std::uint32_t bits(const xsimd::batch_bool<double, A>& m) {
+    return static_cast<std::uint32_t>(_mm_movemask_pd(m));
+  }
+  /// Each lane rounded to float and back (see Mask<avx512bw>::to_float).
+  static xsimd::batch<double, A> to_float(const xsimd::batch<double, A>& v) {
+    return _mm_cvtps_pd(_mm_cvtpd_ps(v));
   }
   /// Lanes whose sign bit is set.
   static std::uint32_t signs(const xsimd::batch<std::int32_t, A>& v) {

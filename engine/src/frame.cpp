@@ -140,6 +140,7 @@ struct Renderer::Impl {
   Isa isa = Isa::kReference;
   int threads = 1;
   raster::TileKernel kernel = nullptr;
+  front::FrontEnd front_end = &front::run_front_end;  ///< the SIMD one of `isa`, when there is one
   std::unique_ptr<tbb::global_control> parallelism;  // declared before the arena: outlives it
   std::unique_ptr<tbb::task_arena> arena;
   // Per-frame memory, kept between frames so that steady-state frames do not allocate.
@@ -182,6 +183,7 @@ Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (impl_->isa != Isa::kReference) {
     impl_->kernel = simd::tile_kernel(impl_->isa);
+    if (const front::FrontEnd f = simd::front_end(impl_->isa)) impl_->front_end = f;
     // oneTBB caps its workers at the core count; asking an arena for more prints a warning and
     // runs on fewer. Oversubscribing is a legitimate request (determinism tests use 7 threads on
     // 2 cores), so raise the cap for as long as this renderer lives.
@@ -286,8 +288,8 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
         const auto c0 = record ? Clock::now() : Clock::time_point{};
         chunks[i].tris.clear();
         chunks[i].planes.clear();
-        front::run_front_end(frame.draws[j.draw], j.draw, j.begin, j.end, W, H, chunks[i].tris,
-                             front_stats.local(), &chunks[i].planes);
+        front_end(frame.draws[j.draw], j.draw, j.begin, j.end, W, H, chunks[i].tris,
+                  front_stats.local(), &chunks[i].planes);
         if (record) stats.chunk_costs[i] = {j.end - j.begin, ms_between(c0, Clock::now()), 0};
       });
     }

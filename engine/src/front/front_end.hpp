@@ -7,8 +7,13 @@
 // it on many chunks in parallel, the reference on everything at once.
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
 
 #include "front/setup.hpp"
 #include "mosaic/draw.hpp"
@@ -30,9 +35,101 @@ std::uint32_t triangle_count(const Draw& draw);
 /// Runs the front end on triangles [begin, end) of `draw`, appending to `out`.
 /// `draw_index` is the draw's index in the frame. The varying planes of a shader draw go to
 /// `planes` (TriangleSetup::varying_base indexes it); without `planes` none are set up (the
-/// occlusion queries need depth only).
+/// occlusion queries need depth only). This is the scalar front end: the oracle, and the
+/// fallback of the SIMD one (front/setup_simd.hpp), which gives the same output.
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
                    FrontStats& stats, std::vector<Plane>* planes = nullptr);
+
+/// A front end with run_front_end()'s signature: the scalar one or a SIMD one (simd/dispatch.hpp).
+using FrontEnd = void (*)(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
+                          std::uint32_t end, int width, int height,
+                          std::vector<TriangleSetup>& out, FrontStats& stats,
+                          std::vector<Plane>* planes);
+
+/// Vertex fetch: a draw's vertex in window-homogeneous space (pixel x = X / W).
+struct VertexFetch {
+  const Draw& draw;
+  glm::dmat4 transform;
+  double half_w, half_h;
+
+  VertexFetch(const Draw& d, int width, int height)
+      : draw(d), transform(glm::dmat4(d.transform)), half_w(width * 0.5), half_h(height * 0.5) {}
+
+  /// Index of corner `k` of triangle `t`.
+  std::uint32_t vertex(std::uint32_t t, int k) const {
+    return draw.indices.empty() ? 3 * t + k : draw.indices[3 * t + k];
+  }
+
+  // Fetches vertex `i`. Returns false when a coordinate is NaN or infinite. Double precision
+  // keeps 1e30-sized coordinates finite.
+  bool operator()(std::uint32_t i, ClipVertex& out) const {
+    glm::dvec4 p;
+    if (!draw.positions_xyz.empty()) {
+      p = transform * glm::dvec4(glm::dvec3(draw.positions_xyz[i]), 1.0);
+    } else {
+      p = glm::dvec4(draw.positions[i]);
+    }
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.w))
+      return false;
+    to_window(p.x, p.y, p.w, out.X, out.Y);
+    out.Z = p.z;
+    out.W = p.w;
+    if (draw.color_source == ColorSource::kPerVertex) out.color = color(i);
+    return true;
+  }
+
+  /// Vertex `i`'s colour as ClipVertex::color holds it.
+  std::array<double, kColorChannels> color(std::uint32_t i) const {
+    const Rgba8 c = draw.colors[i];
+    return {double(c.r), double(c.g), double(c.b), double(c.a)};
+  }
+
+  /// A clip-space position's window-homogeneous x and y (y down); screen space is already so.
+  /// A template for the SIMD front end, which maps double lanes with it.
+  template <class T>
+  void to_window(T x, T y, T w, T& X, T& Y) const {
+    if (draw.space == Space::kClip) {
+      X = (x + w) * T(half_w);
+      Y = (w - y) * T(half_h);
+    } else {
+      X = x;
+      Y = y;
+    }
+  }
+};
+
+/// The scalar front end of one triangle at a time, with its scratch kept between triangles:
+/// run_front_end() runs it on every triangle, the SIMD front end on those its lanes leave (a
+/// triangle that needs clipping, a non-finite one, ...).
+class TriangleFrontEnd {
+ public:
+  TriangleFrontEnd(const Draw& draw, std::uint32_t draw_index, int width, int height,
+                   std::vector<TriangleSetup>& out, FrontStats& stats, std::vector<Plane>* planes);
+
+  /// Runs triangle `t` of the draw: appends its setups to `out`, counts it in `stats`.
+  void run(std::uint32_t t);
+
+  const VertexFetch fetch;
+  const bool shader;      ///< the draw has a shader
+  const bool per_vertex;  ///< vertex colours are set up (a shader colours the draw itself)
+  const int nvary;        ///< varyings set up per triangle
+
+ private:
+  const Draw& draw_;
+  std::uint32_t draw_index_;
+  int width_, height_;
+  std::vector<TriangleSetup>& out_;
+  FrontStats& stats_;
+  std::vector<Plane>* planes_;
+  // Varyings of the submitted corners, and of the clipped polygon's vertices (weighted sums of
+  // the corners' by their barycentric weights).
+  std::array<std::array<double, kMaxVaryings>, 3> corner_attr_;
+  std::array<std::array<double, kMaxVaryings>, kMaxClipVertices> poly_attr_;
+  // Reused across triangles: each holds 11 vertices of 64 bytes, and constructing (zeroing) them
+  // per triangle was a seventh of the front end. Only entries written for this triangle are read.
+  ClipPolygon poly_;
+  std::array<ScreenVertex, kMaxClipVertices> sv_;
+};
 
 }  // namespace mosaic::front

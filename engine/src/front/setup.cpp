@@ -17,10 +17,6 @@ Plane make_plane(const std::array<double, 3>& X, const std::array<double, 3>& Y,
   return {static_cast<float>(f0), static_cast<float>(ddx), static_cast<float>(ddy)};
 }
 
-bool finite(const Plane& p) {
-  return std::isfinite(p.base) && std::isfinite(p.ddx) && std::isfinite(p.ddy);
-}
-
 }  // namespace
 
 std::int32_t snap(double px) {
@@ -126,10 +122,10 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
       const double qmax = std::max({Q[0], Q[1], Q[2]});
       std::array<double, 3> qn{Q[0] / qmax, Q[1] / qmax, Q[2] / qmax};
       out.q = make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]);
-      bool ok = finite(out.q);
+      bool ok = is_finite(out.q);
       for (int ch = 0; ch < kColorChannels; ++ch) {
         out.c_q[ch] = make_plane(X, Y, area_px2, c0[ch] * qn[0], c1[ch] * qn[1], c2[ch] * qn[2]);
-        ok = ok && finite(out.c_q[ch]);
+        ok = ok && is_finite(out.c_q[ch]);
       }
       // A plane that overflows float (a sub-1/65536 px² sliver with extreme colour slopes) is
       // shaded with its first vertex's colour instead.
@@ -154,10 +150,10 @@ void setup_varyings(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basi
   const double qmax = std::max({v[idx[0]].q, v[idx[1]].q, v[idx[2]].q});
   const std::array<double, 3> qn{v[idx[0]].q / qmax, v[idx[1]].q / qmax, v[idx[2]].q / qmax};
   out.q = make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]);
-  bool ok = finite(out.q);
+  bool ok = is_finite(out.q);
   for (int k = 0; k < count; ++k) {
     planes.push_back(make_plane(X, Y, area_px2, a[0][k] * qn[0], a[1][k] * qn[1], a[2][k] * qn[2]));
-    ok = ok && finite(planes.back());
+    ok = ok && is_finite(planes.back());
   }
   if (ok) return;
   out.q = {1.0f, 0.0f, 0.0f};

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -43,6 +44,11 @@ struct EdgeFunction {
 struct Plane {
   float base = 0, ddx = 0, ddy = 0;
 };
+
+/// No coefficient is infinite or NaN: a plane that fails is replaced by a constant.
+inline bool is_finite(const Plane& p) {
+  return std::isfinite(p.base) && std::isfinite(p.ddx) && std::isfinite(p.ddy);
+}
 
 inline float eval_plane(const Plane& p, float x0, float y0, float x, float y) {
   const float v = p.base + p.ddx * (x - x0);
