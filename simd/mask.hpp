@@ -27,8 +27,10 @@ struct Mask<xsimd::avx512bw> {
   static std::uint32_t bits(const xsimd::batch_bool<double, A>& m) {
     return static_cast<__mmask8>(m);
   }
-  /// Each lane rounded to float and back. (A generic store, convert-each-lane, load is folded
-  /// away entirely by GCC 12 at -O3, which is wrong: found by test_front_simd.)
+  /// Each lane rounded to float and back, with the ISA's conversion instructions. A generic
+  /// store, convert-each-lane, load came out of GCC 12 -O3 without the rounding, and the depth
+  /// planes of clip-space draws differed from the scalar setup's (found by test_front_simd; not
+  /// reduced to a minimal case, so whether the compiler or that code was at fault is not known).
   static xsimd::batch<double, A> to_float(const xsimd::batch<double, A>& v) {
     return _mm512_cvtps_pd(_mm512_cvtpd_ps(v));
   }
