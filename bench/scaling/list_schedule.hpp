@@ -6,7 +6,10 @@
 //
 // The model follows engine/src/frame.cpp: stage 1 (setup) in parallel over chunks, a barrier,
 // stage 2 (binning) in parallel over the same chunks, a barrier, stage 3 one task per tile, in
-// the renderer's order (busiest first by binned triangle count). Each stage is Graham's list
+// the renderer's order (busiest first by binned triangle count). One simplification: the renderer
+// bins each chunk in the task that set it up (stages 1 and 2 are one stage there), while the
+// model keeps a barrier between them so that each shows its own scaling; with many chunks of
+// similar cost the two differ by about one chunk's cost. Each stage is Graham's list
 // scheduling: jobs taken in a fixed order, each started on the core that falls free first.
 // For a fixed order of independent jobs the makespan never rises with the core count (the k
 // smallest core loads on P + 1 cores never exceed those on P cores, job after job), and it is

@@ -66,7 +66,10 @@ struct FrameStats {
   /// the draw's DrawState::color_write was off (and their depth, if depth_write was on).
   std::uint64_t samples_written = 0;
   /// Wall-clock milliseconds of each stage and of the whole frame. ms_resolve alone is summed
-  /// over the workers (the resolve runs inside each tile's task), so it is thread time.
+  /// over the workers (the resolve runs inside each tile's task), so it is thread time. Each
+  /// front-end chunk is binned as soon as it is set up, in the same task, so ms_setup and
+  /// ms_binning share that stage's wall time in proportion to the thread time the chunks spent
+  /// in each (ms_setup also holds validation, before the stage).
   double ms_setup = 0, ms_binning = 0, ms_raster = 0, ms_resolve = 0, ms_total = 0;
   int tile_size = 0;  ///< tile edge in pixels the fast path used (0 for the reference)
   /// Per-tile and per-chunk costs, in tile and chunk order; filled only when
