@@ -1,12 +1,13 @@
 // tests/fuzz/fuzz_pipeline.cpp — libFuzzer target for the whole pipeline on raw vertex bits.
 //
-// Takes: arbitrary bytes: a 8-byte header (target size 1..64 × 1..64, sample count, space,
-// depth test, culling, fill rule, colour source, index mode, clear depth, tile size) followed by
-// vertices as raw float32 bits x y z w (NaN, Inf, denormals and 1e38 included) and, with
-// indices, raw index bytes (some out of range, many repeated). Gives: nothing, or a crash report. The frame must be either
-// rejected by validate() — and then render() throws the same error and leaves the target alone —
-// or rendered identically (every sample's colour and depth bit for bit, and the counters) on the
-// reference and on every SIMD path this CPU runs; every written depth lies in [0, 1].
+// Takes: arbitrary bytes: an 8-byte header (target size 1..64 × 1..64, sample count, space,
+// depth test, culling, fill rule, colour source, index mode, SSAA, blending, shader, clear depth,
+// tile size) followed by vertices as raw float32 bits x y z w (NaN, Inf, denormals and 1e38
+// included) and, with indices, raw index bytes (some out of range, many repeated). Gives: nothing,
+// or a crash report. The frame must be either rejected by validate() — and then render() throws
+// the same error and leaves the target alone — or rendered identically (every sample's colour and
+// depth bit for bit, and the counters) on the reference and on every SIMD path this CPU runs;
+// every written depth lies in [0, 1].
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -77,6 +78,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   draw.color_source = static_cast<mosaic::ColorSource>(data[5] % 3);
   const bool indexed = (data[5] & 4) != 0;
   const bool ssaa = (data[5] & 8) != 0;
+  // Source-over blending (with alphas other than 255), and the vertex-colour fragment shader
+  // reading the raw vertex bits as its four varyings (NaN, Inf and 1e38 colours included).
+  const bool blend = (data[5] & 0x10) != 0;
+  const bool shaded = (data[5] & 0x20) != 0;
+  if (blend) draw.state.blend = mosaic::BlendMode::kSourceOver;
   const float clear_depth = (data[6] & 1) ? 0.0f : 1.0f;
   // The fast paths' tile size: the renderer's choice, or 8 to 128 px (tile edges through a
   // 64 px target).
@@ -106,8 +112,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       draw.color_source == mosaic::ColorSource::kPerVertex ? positions.size() : tris;
   for (std::size_t k = 0; k < ncolors; ++k)
     colors.push_back({static_cast<std::uint8_t>(k * 37), static_cast<std::uint8_t>(k * 91),
-                      static_cast<std::uint8_t>(k), 255});
+                      static_cast<std::uint8_t>(k),
+                      blend ? static_cast<std::uint8_t>(k * 53) : std::uint8_t{255}});
   draw.positions = positions;
+  static constexpr std::uint32_t kColorVaryings[] = {0, 1, 2, 3};
+  std::vector<float> attributes;
+  if (shaded) {
+    for (const glm::vec4& p : positions) attributes.insert(attributes.end(), {p.x, p.y, p.z, p.w});
+    draw.attributes = attributes;
+    draw.attribute_count = 4;
+    draw.varyings = kColorVaryings;
+    draw.shader = mosaic::vertex_color_shader();
+  }
   draw.indices = indices;
   draw.colors = colors;
   mosaic::Frame frame;
