@@ -1,8 +1,8 @@
 // frame.cpp — the frame orchestrator: the only place that knows the order of the stages.
 //
 // validate → front end (transform, clip, cull, snap, setup) → binning (each chunk right after its
-// front end) → tile rasterization (coverage, hierarchical z, depth, shading) → resolve. Isa::kReference sends the whole frame to
-// the exact scalar oracle instead.
+// front end) → tile rasterization (coverage, hierarchical z, depth, shading) → resolve.
+// Isa::kReference sends the whole frame to the exact scalar oracle instead.
 #include <algorithm>
 #include <bit>
 #include <chrono>
