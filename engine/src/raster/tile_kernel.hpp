@@ -93,13 +93,16 @@ struct TileKernelImpl {
   static I unorm8(F v) { return xsimd::to_int(clamp(v, 0.0f, 255.0f) + F(0.5f)); }
 
   // front::shade(), lane-wise: packed RGBA8 at positions (x, y).
-  static I shade(const front::TriangleSetup& t, F x, F y) {
-    if (t.flat) return I(bits_of(t.color));
-    const F q = plane(t.q, t.x0, t.y0, x, y);
-    const I r = unorm8(plane(t.c_q[0], t.x0, t.y0, x, y) / q);
-    const I g = unorm8(plane(t.c_q[1], t.x0, t.y0, x, y) / q);
-    const I b = unorm8(plane(t.c_q[2], t.x0, t.y0, x, y) / q);
-    const I a = unorm8(plane(t.c_q[3], t.x0, t.y0, x, y) / q);
+  // `planes` is the chunk's plane array (Context::planes). An interpolated triangle's planes are
+  // not prefetched with its setup: they are rare in the benchmark scenes.
+  static I shade(const front::TriangleSetup& t, const front::Plane* planes, F x, F y) {
+    if (front::is_flat(t)) return I(bits_of(t.color));
+    const front::Plane* p = planes + t.planes_base;
+    const F q = plane(p[0], t.x0, t.y0, x, y);
+    const I r = unorm8(plane(p[1], t.x0, t.y0, x, y) / q);
+    const I g = unorm8(plane(p[2], t.x0, t.y0, x, y) / q);
+    const I b = unorm8(plane(p[3], t.x0, t.y0, x, y) / q);
+    const I a = unorm8(plane(p[4], t.x0, t.y0, x, y) / q);
     return r | (g << 8) | (b << 16) | (a << 24);
   }
 
@@ -127,7 +130,7 @@ struct TileKernelImpl {
     /// then needs neither s nor v, only the vector's index k.
     F sx[kMaxSamples * kVectors], sy[kMaxSamples * kVectors];
     std::int64_t soff[2][kMaxSamples];    ///< sample offset from the pixel corner, in 16.8
-    const front::Plane* planes = nullptr;  ///< varying planes of the bin run being drawn
+    const front::Plane* planes = nullptr;  ///< plane array of the bin run being drawn
   };
 
   // Chooses the specialisation of triangle_impl() for the draw's state, so that the inner loops
@@ -148,7 +151,7 @@ struct TileKernelImpl {
   }
   template <bool kSsaa>
   static void triangle_state(Context& cx, const front::TriangleSetup& t, const DrawState& ds) {
-    if (t.flat) return triangle_depth<kSsaa, true>(cx, t, ds);
+    if (front::is_flat(t)) return triangle_depth<kSsaa, true>(cx, t, ds);
     return triangle_depth<kSsaa, false>(cx, t, ds);
   }
   template <bool kSsaa, bool kFlat, bool kColor = true, bool kS1 = false, bool kGeneric = false>
@@ -417,11 +420,12 @@ struct TileKernelImpl {
               if constexpr (kFlat) {
                 color = flat_color;
               } else if constexpr (kSsaa) {
-                color = shade(t, fx, fy);
+                color = shade(t, cx.planes, fx, fy);
               } else {
                 const std::size_t v = k % kVectors;
                 if (!(shaded & (1u << v))) {
-                  pixel_color[v] = shade(t, fx_blk + cx.colf[v] + F(0.5f), fy_row + cx.rowf[v] + F(0.5f));
+                  pixel_color[v] = shade(t, cx.planes, fx_blk + cx.colf[v] + F(0.5f),
+                                         fy_row + cx.rowf[v] + F(0.5f));
                   shaded |= 1u << v;
                 }
                 color = pixel_color[v];
@@ -554,7 +558,7 @@ struct TileKernelImpl {
     if (!sh.function) {
       for (int j = 0; j < kBatchVectors; ++j) {
         const int v = g * kBatchVectors + j;
-        out[j] = shade(t, (fx_blk + cx.colf[v]) + ox, (fy_blk + cx.rowf[v]) + oy);
+        out[j] = shade(t, cx.planes, (fx_blk + cx.colf[v]) + ox, (fy_blk + cx.rowf[v]) + oy);
       }
       return;
     }
@@ -567,11 +571,10 @@ struct TileKernelImpl {
       y.store_aligned(in.y + j * L);
       if (sh.varyings > 0) {
         const auto lanes = M::floats((active >> (j * L)) & kLaneBits);
-        const F q = plane(t.q, t.x0, t.y0, x, y);
+        const front::Plane* p = cx.planes + t.planes_base;  // q, then the varyings
+        const F q = plane(p[0], t.x0, t.y0, x, y);
         for (int k = 0; k < sh.varyings; ++k) {
-          const F val =
-              plane(cx.planes[t.varying_base + static_cast<std::uint32_t>(k)], t.x0, t.y0, x, y) /
-              q;
+          const F val = plane(p[1 + k], t.x0, t.y0, x, y) / q;
           xsimd::select(lanes, val, F(0.0f)).store_aligned(in.varying[k] + j * L);
         }
       }
@@ -909,11 +912,12 @@ struct TileKernelImpl {
   /// ahead 24.5 ms, 6 ahead 31 ms.
   static constexpr std::size_t kPrefetchAhead = 2;
   static constexpr int kCacheLine = 64;
-  /// Lines of a TriangleSetup the kernels read: edges, anchor, box, depth plane, flags, colour,
-  /// draw (the setup is line-aligned). The draw's index was on a third line, read (for the draw's
-  /// state) before anything else: a miss per triangle.
+  /// Lines of a TriangleSetup the kernels read: edges, anchor, box, depth plane, colour, draw and
+  /// planes_base, its last field (the setup is line-aligned). The draw's index was once on a third
+  /// line, read (for the draw's state) before anything else: a miss per triangle.
   static constexpr int kPrefetchLines = static_cast<int>(
-      (offsetof(front::TriangleSetup, draw) + sizeof(front::TriangleSetup::draw) + kCacheLine - 1) /
+      (offsetof(front::TriangleSetup, planes_base) + sizeof(front::TriangleSetup::planes_base) +
+       kCacheLine - 1) /
       kCacheLine);
   static constexpr std::int64_t kHalf = 128;             ///< half a pixel: the pixel centre
   static constexpr std::int64_t kBlockSpan = kBlockSize * kSubpixel;  ///< a block's width in 16.8
