@@ -129,9 +129,8 @@ void TriangleFrontEnd::run(std::uint32_t t) {
     TriangleSetup ts;
     PlaneBasis basis;
     const std::array<ScreenVertex, 3> tri{sv[0], sv[k], sv[k + 1]};
-    const SetupReject why =
-        setup_triangle(tri, draw.state, width, height, per_vertex, flat, ts, planes_,
-                       nvary > 0 || sort_keys ? &basis : nullptr);
+    const SetupReject why = setup_triangle(tri, draw.state, width, height, per_vertex, flat, ts,
+                                           planes_, nvary > 0 || sort_keys ? &basis : nullptr);
     any_face = any_face || why == SetupReject::kFace;
     any_outside = any_outside || why == SetupReject::kOutside;
     if (why != SetupReject::kNone) continue;

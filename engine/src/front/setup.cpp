@@ -156,8 +156,10 @@ void setup_varyings(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basi
   }
   if (ok) return;
   planes[out.planes_base] = {1.0f, 0.0f, 0.0f};
-  for (int k = 0; k < count; ++k)
-    planes[out.planes_base + 1 + static_cast<std::uint32_t>(k)] = {static_cast<float>(a[0][k]), 0, 0};
+  for (int k = 0; k < count; ++k) {
+    const std::uint32_t i = out.planes_base + 1 + static_cast<std::uint32_t>(k);  // after q
+    planes[i] = {static_cast<float>(a[0][k]), 0, 0};
+  }
 }
 
 }  // namespace mosaic::front

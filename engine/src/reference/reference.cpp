@@ -90,7 +90,8 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
               shading.empty() || !shading[t.draw].generic ? nullptr : &shading[t.draw];
           const int lane = ((py % 8) * 8 + px % 8) % kShaderBatch;
           const auto colour_at = [&](float x, float y) {
-            return sh ? shade::shade_one(t, *sh, planes.data(), x, y, lane) : front::shade(t, planes.data(), x, y);
+            return sh ? shade::shade_one(t, *sh, planes.data(), x, y, lane)
+                      : front::shade(t, planes.data(), x, y);
           };
           Rgba8 c;
           if (frame.ssaa) {

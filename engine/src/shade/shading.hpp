@@ -56,8 +56,8 @@ constexpr Rgba8 blend_over(Rgba8 src, Rgba8 dst) {
 /// as colour is.
 inline float varying_at(const front::TriangleSetup& t, const front::Plane* planes, int k, float q,
                         float x, float y) {
-  return front::eval_plane(planes[t.planes_base + 1 + static_cast<std::uint32_t>(k)], t.x0, t.y0,
-                           x, y) /
+  return front::eval_plane(planes[t.planes_base + 1 + static_cast<std::uint32_t>(k)], t.x0, t.y0, x,
+                           y) /
          q;
 }
 
