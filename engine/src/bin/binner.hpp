@@ -35,7 +35,7 @@ struct TileGrid {
 /// the first frames, a frame allocates nothing per triangle.
 struct Chunk {
   std::vector<front::TriangleSetup> tris;
-  std::vector<front::Plane> planes;    ///< varying planes of the shader draws' triangles
+  std::vector<front::Plane> planes;    ///< out-of-line planes: interpolated colours, varyings
   std::vector<std::uint32_t> offsets;  ///< per tile: bin [offsets[t], offsets[t+1]) of indices
   std::vector<std::uint32_t> indices;  ///< triangle indices into `tris`, grouped by tile
   std::vector<std::uint64_t> pairs;    ///< scratch: (tile << 32 | triangle) before grouping

@@ -130,7 +130,7 @@ void TriangleFrontEnd::run(std::uint32_t t) {
     PlaneBasis basis;
     const std::array<ScreenVertex, 3> tri{sv[0], sv[k], sv[k + 1]};
     const SetupReject why = setup_triangle(tri, draw.state, width, height, per_vertex, flat, ts,
-                                           nvary > 0 ? &basis : nullptr);
+                                           planes_, nvary > 0 || sort_keys ? &basis : nullptr);
     any_face = any_face || why == SetupReject::kFace;
     any_outside = any_outside || why == SetupReject::kOutside;
     if (why != SetupReject::kNone) continue;
@@ -139,6 +139,7 @@ void TriangleFrontEnd::run(std::uint32_t t) {
                      {poly_attr[0].data(), poly_attr[k].data(), poly_attr[k + 1].data()}, nvary,
                      ts, *planes_);
     ts.draw = draw_index_;
+    if (sort_keys) sort_keys->push_back(sort_depth(tri, basis));
     ++stats.drawn;
     any_drawn = true;
     out_.push_back(ts);

@@ -33,9 +33,10 @@ struct FrontStats {
 std::uint32_t triangle_count(const Draw& draw);
 
 /// Runs the front end on triangles [begin, end) of `draw`, appending to `out`.
-/// `draw_index` is the draw's index in the frame. The varying planes of a shader draw go to
-/// `planes` (TriangleSetup::varying_base indexes it); without `planes` none are set up (the
-/// occlusion queries need depth only). This is the scalar front end: the oracle, and the
+/// `draw_index` is the draw's index in the frame. The planes of interpolated colours and of a
+/// shader draw's varyings go to `planes` (TriangleSetup::planes_base indexes it); without
+/// `planes` none are set up (the occlusion queries need depth only; front/setup.hpp says what
+/// the triangles get instead). This is the scalar front end: the oracle, and the
 /// fallback of the SIMD one (front/setup_simd.hpp), which gives the same output.
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
@@ -114,6 +115,9 @@ class TriangleFrontEnd {
   const bool shader;      ///< the draw has a shader
   const bool per_vertex;  ///< vertex colours are set up (a shader colours the draw itself)
   const int nvary;        ///< varyings set up per triangle
+  /// When set, gets each appended setup's sort_depth() (front/setup.hpp), in `out`'s order: the
+  /// painter's path sorts by it (reference::setup_frame()).
+  std::vector<float>* sort_keys = nullptr;
 
  private:
   const Draw& draw_;

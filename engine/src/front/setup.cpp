@@ -34,18 +34,19 @@ std::int32_t snap(double px) {
   return static_cast<std::int32_t>(s - static_cast<double>(below) >= 0.5 ? below + 1 : below);
 }
 
-Rgba8 shade(const TriangleSetup& t, float x, float y) {
-  if (t.flat) return t.color;
-  const float q = eval_plane(t.q, t.x0, t.y0, x, y);
+Rgba8 shade(const TriangleSetup& t, const Plane* planes, float x, float y) {
+  if (is_flat(t)) return t.color;
+  const Plane* p = planes + t.planes_base;
+  const float q = eval_plane(p[0], t.x0, t.y0, x, y);
   std::array<std::uint8_t, kColorChannels> c{};
   for (int ch = 0; ch < kColorChannels; ++ch)
-    c[ch] = to_unorm8(eval_plane(t.c_q[ch], t.x0, t.y0, x, y) / q);
+    c[ch] = to_unorm8(eval_plane(p[1 + ch], t.x0, t.y0, x, y) / q);
   return {c[0], c[1], c[2], c[3]};
 }
 
 SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state, int width,
                            int height, bool per_vertex_color, Rgba8 flat_color, TriangleSetup& out,
-                           PlaneBasis* basis) {
+                           std::vector<Plane>* planes, PlaneBasis* basis) {
   std::array<FixedPoint, 3> p;
   for (int i = 0; i < 3; ++i) p[i] = {snap(v[i].x), snap(v[i].y)};
 
@@ -107,31 +108,26 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
   out.z = make_plane(X, Y, area_px2, Z[0], Z[1], Z[2]);
   out.z_min = static_cast<float>(std::min({Z[0], Z[1], Z[2]}));
   out.z_max = static_cast<float>(std::max({Z[0], Z[1], Z[2]}));
-  out.sort_depth = static_cast<float>((Z[0] + Z[1] + Z[2]) / 3.0);
 
-  out.flat = true;
+  out.planes_base = kNoPlanes;
   out.color = flat_color;
   if (per_vertex_color) {
     const auto& c0 = v[idx[0]].color;
     const auto& c1 = v[idx[1]].color;
     const auto& c2 = v[idx[2]].color;
     // Equal vertex colours need no interpolation: flat is both faster and exact.
-    if (c0 != c1 || c0 != c2) {
+    if (planes && (c0 != c1 || c0 != c2)) {
       // Only ratios of q matter (colour = (c*q) / q), so normalise the largest to 1: it keeps
       // c*q within 0..255 even when w is tiny.
       const double qmax = std::max({Q[0], Q[1], Q[2]});
       std::array<double, 3> qn{Q[0] / qmax, Q[1] / qmax, Q[2] / qmax};
-      out.q = make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]);
-      bool ok = is_finite(out.q);
-      for (int ch = 0; ch < kColorChannels; ++ch) {
-        out.c_q[ch] = make_plane(X, Y, area_px2, c0[ch] * qn[0], c1[ch] * qn[1], c2[ch] * qn[2]);
-        ok = ok && is_finite(out.c_q[ch]);
-      }
-      // A plane that overflows float (a sub-1/65536 px² sliver with extreme colour slopes) is
-      // shaded with its first vertex's colour instead.
-      out.flat = !ok;
+      std::array<Plane, kColorPlanes> cp;
+      cp[0] = make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]);
+      for (int ch = 0; ch < kColorChannels; ++ch)
+        cp[1 + ch] = make_plane(X, Y, area_px2, c0[ch] * qn[0], c1[ch] * qn[1], c2[ch] * qn[2]);
+      keep_color_planes(cp, *planes, out);
     }
-    if (out.flat) {
+    if (is_flat(out)) {
       out.color = {to_unorm8(static_cast<float>(c0[0])), to_unorm8(static_cast<float>(c0[1])),
                    to_unorm8(static_cast<float>(c0[2])), to_unorm8(static_cast<float>(c0[3]))};
     }
@@ -142,23 +138,28 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
 void setup_varyings(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basis,
                     const std::array<const double*, 3>& values, int count, TriangleSetup& out,
                     std::vector<Plane>& planes) {
-  out.varying_base = static_cast<std::uint32_t>(planes.size());
-  if (count == 0) return;
+  if (count == 0) {
+    out.planes_base = kNoPlanes;
+    return;
+  }
+  out.planes_base = static_cast<std::uint32_t>(planes.size());
   const auto& [X, Y, idx, area_px2] = basis;
   const double* a[3] = {values[idx[0]], values[idx[1]], values[idx[2]]};
   // As for colour: only ratios of q matter, so the largest is normalised to 1.
   const double qmax = std::max({v[idx[0]].q, v[idx[1]].q, v[idx[2]].q});
   const std::array<double, 3> qn{v[idx[0]].q / qmax, v[idx[1]].q / qmax, v[idx[2]].q / qmax};
-  out.q = make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]);
-  bool ok = is_finite(out.q);
+  planes.push_back(make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]));
+  bool ok = is_finite(planes.back());
   for (int k = 0; k < count; ++k) {
     planes.push_back(make_plane(X, Y, area_px2, a[0][k] * qn[0], a[1][k] * qn[1], a[2][k] * qn[2]));
     ok = ok && is_finite(planes.back());
   }
   if (ok) return;
-  out.q = {1.0f, 0.0f, 0.0f};
-  for (int k = 0; k < count; ++k)
-    planes[out.varying_base + k] = {static_cast<float>(a[0][k]), 0, 0};
+  planes[out.planes_base] = {1.0f, 0.0f, 0.0f};
+  for (int k = 0; k < count; ++k) {
+    const std::uint32_t i = out.planes_base + 1 + static_cast<std::uint32_t>(k);  // after q
+    planes[i] = {static_cast<float>(a[0][k]), 0, 0};
+  }
 }
 
 }  // namespace mosaic::front

@@ -61,26 +61,50 @@ inline float clamp_like_simd(float v, float lo, float hi) {
   return m < hi ? m : hi;
 }
 
-/// Everything a rasterizer needs to know about one triangle. The fields every tile kernel reads
-/// for every triangle, up to `draw`, fill the first two cache lines (125 bytes; the kernels
-/// prefetch exactly those), and the alignment keeps them from straddling a third: a bin's
-/// triangles are scattered through the setup arrays, so each is a cache miss.
+/// planes_base of a triangle without planes: flat colour (`color`), and no shader varyings.
+inline constexpr std::uint32_t kNoPlanes = UINT32_MAX;
+
+/// Planes of an interpolated-colour triangle in its chunk's plane array: q, then c_q per channel.
+inline constexpr std::uint32_t kColorPlanes = static_cast<std::uint32_t>(1 + kColorChannels);
+
+/// Everything every tile kernel reads for every triangle, and nothing else: two cache lines (the
+/// kernels prefetch exactly those), aligned so that they never straddle a third. The front end
+/// writes one per triangle, so every byte here is written once and read back once per frame;
+/// what only some triangles need lives out of line in the chunk's plane array (bin::Chunk::planes,
+/// a std::vector<Plane>), from index planes_base:
+/// - interpolated vertex colour (not a shader draw): planes[planes_base] is q, 1/w normalised
+///   so that its largest vertex value is 1, and planes[planes_base + 1 + ch] is colour·q of
+///   channel ch (kColorPlanes in all); colour = (colour·q) / q;
+/// - a shader draw with varyings: planes[planes_base] is q as above, and
+///   planes[planes_base + 1 + k] is varying k·q;
+/// - otherwise (flat colour, or a shader draw without varyings) planes_base is kNoPlanes.
 struct alignas(64) TriangleSetup {
   std::array<EdgeFunction, 3> edge;
   float x0 = 0, y0 = 0;                  ///< plane anchor: the snapped first vertex, in pixels
   int bx0 = 0, by0 = 0, bx1 = 0, by1 = 0;  ///< pixels [bx0, bx1) × [by0, by1) that may be covered
   Plane z;
   float z_min = 0, z_max = 0;  ///< depth is clamped to the vertices' range
-  bool flat = true;            ///< constant colour: `color`; otherwise the planes below
-  Rgba8 color;
-  std::uint32_t draw = 0;                   ///< index of the draw, for its state
-  Plane q;                                  ///< 1/w, normalised so its largest vertex value is 1
-  std::array<Plane, kColorChannels> c_q;    ///< colour * q per channel
-  float sort_depth = 0;                     ///< mean vertex depth (painter's algorithm)
-  /// A shader draw's varying planes (attr * q, like c_q) start here in the chunk's plane array;
-  /// `q` is then their 1/w plane. Kept out of line: draws without varyings pay nothing.
-  std::uint32_t varying_base = 0;
+  Rgba8 color;                 ///< the colour when planes_base is kNoPlanes
+  std::uint32_t draw = 0;      ///< index of the draw, for its state
+  std::uint32_t planes_base = kNoPlanes;  ///< see above
 };
+
+static_assert(sizeof(TriangleSetup) == 128, "two cache lines: see above");
+
+/// Whether a triangle without a shader is shaded with `color` (no planes) or interpolates.
+inline bool is_flat(const TriangleSetup& t) { return t.planes_base == kNoPlanes; }
+
+/// Appends an interpolated-colour triangle's planes (q, then colour·q per channel) to `planes`
+/// and points out.planes_base at them, unless one overflows float (a sub-1/65536 px² sliver with
+/// extreme colour slopes): that triangle stays flat, and its caller gives it its first vertex's
+/// colour. Shared by the scalar and SIMD front ends, which must agree bit for bit.
+inline void keep_color_planes(const std::array<Plane, kColorPlanes>& p, std::vector<Plane>& planes,
+                              TriangleSetup& out) {
+  for (const Plane& pl : p)
+    if (!is_finite(pl)) return;
+  out.planes_base = static_cast<std::uint32_t>(planes.size());
+  planes.insert(planes.end(), p.begin(), p.end());
+}
 
 /// The snapped, oriented corners and area a triangle's planes are built on (setup_triangle()
 /// gives it, setup_varyings() takes it). Left uninitialised until setup_triangle() fills it: the
@@ -91,15 +115,13 @@ struct PlaneBasis {
   double area_px2;             ///< twice the area, in px²
 };
 
-static_assert(offsetof(TriangleSetup, draw) + sizeof(TriangleSetup::draw) <= 128);
-
 /// Depth of the triangle at a sample position (pixels).
 inline float sample_depth(const TriangleSetup& t, float x, float y) {
   return clamp_like_simd(eval_plane(t.z, t.x0, t.y0, x, y), t.z_min, t.z_max);
 }
 
-/// Colour of the triangle at a shading position (pixels).
-Rgba8 shade(const TriangleSetup& t, float x, float y);
+/// Colour of the triangle at a shading position (pixels); `planes` is its chunk's plane array.
+Rgba8 shade(const TriangleSetup& t, const Plane* planes, float x, float y);
 
 /// Converts an interpolated channel value to 8 bits: clamp to [0, 255] (NaN to 0), round half up.
 inline std::uint8_t to_unorm8(float v) {
@@ -115,15 +137,26 @@ enum class SetupReject { kNone, kFace, kDegenerate, kOutside };
 std::int32_t snap(double px);
 
 /// Snaps and sets up a triangle for a width × height target.
-/// `flat_color` is used when `per_vertex_color` is false. `basis`, when given, receives the
-/// corners the planes were built on (for setup_varyings()).
+/// `flat_color` is used when `per_vertex_color` is false. Differing vertex colours append
+/// kColorPlanes planes to `planes`; without `planes` (callers that use only coverage and depth)
+/// none are set up, and the triangle gets its first vertex's colour, as one whose planes overflow
+/// float does. `basis`, when given, receives the corners the planes were built on (for
+/// setup_varyings() and sort_depth()).
 SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state, int width,
                            int height, bool per_vertex_color, Rgba8 flat_color, TriangleSetup& out,
-                           PlaneBasis* basis = nullptr);
+                           std::vector<Plane>* planes = nullptr, PlaneBasis* basis = nullptr);
 
-/// Appends `count` varying planes of a set-up triangle to `planes` and points out.varying_base at
-/// them; sets out.q. values[i][k] is varying k at input vertex i (v[i]). Planes that overflow
-/// float (a tiny sliver with steep varyings) become the constants of the first corner.
+/// The painter's algorithm's key of a set-up triangle: its mean vertex depth, summed in the
+/// oriented order. Not stored in TriangleSetup: only the painter's path needs it.
+inline float sort_depth(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basis) {
+  const auto& i = basis.idx;
+  return static_cast<float>((double{v[i[0]].z} + double{v[i[1]].z} + double{v[i[2]].z}) / 3.0);
+}
+
+/// Appends q and `count` varying planes of a set-up triangle to `planes` and points
+/// out.planes_base at them (kNoPlanes when count is 0). values[i][k] is varying k at input vertex
+/// i (v[i]). Planes that overflow float (a tiny sliver with steep varyings) become the constants
+/// of the first corner.
 void setup_varyings(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basis,
                     const std::array<const double*, 3>& values, int count, TriangleSetup& out,
                     std::vector<Plane>& planes);

@@ -60,7 +60,7 @@ struct FrontEndSimd {
     std::uint32_t interpolated;  ///< drawn with differing vertex colours: the planes below are set
     alignas(64) double ea[3][N], eb[3][N], ec[3][N];  ///< edge coefficients (integers)
     alignas(64) double bx0[N], by0[N], bx1[N], by1[N];
-    alignas(64) double x0[N], y0[N], z_min[N], z_max[N], sort_depth[N];
+    alignas(64) double x0[N], y0[N], z_min[N], z_max[N];
     PlaneLanes z, q;
     PlaneLanes c_q[kColorChannels];
   };
@@ -262,7 +262,6 @@ struct FrontEndSimd {
     make_plane(Xs, Ys, area_px2, Zo[0], Zo[1], Zo[2], r.z);
     min3(Zo[0], Zo[1], Zo[2]).store_aligned(r.z_min);
     max3(Zo[0], Zo[1], Zo[2]).store_aligned(r.z_max);
-    ((Zo[0] + Zo[1] + Zo[2]) / D(3.0)).store_aligned(r.sort_depth);
 
     if (per_vertex) {
       std::array<D, 3> c[kColorChannels];
@@ -290,9 +289,10 @@ struct FrontEndSimd {
             static_cast<float>(p.ddy[l])};
   }
 
-  /// Writes lane l's drawn triangle as setup_triangle() and TriangleFrontEnd::run() would.
+  /// Writes lane l's drawn triangle as setup_triangle() and TriangleFrontEnd::run() would,
+  /// appending its colour planes, if it interpolates, to `planes`.
   static void store(const Results& r, const Vertices& v, int l, bool per_vertex, Rgba8 flat,
-                    std::uint32_t draw_index, std::uint32_t varying_base, TriangleSetup& ts) {
+                    std::uint32_t draw_index, std::vector<Plane>* planes, TriangleSetup& ts) {
     for (int e = 0; e < 3; ++e)
       ts.edge[e] = {static_cast<std::int64_t>(r.ea[e][l]), static_cast<std::int64_t>(r.eb[e][l]),
                     static_cast<std::int64_t>(r.ec[e][l])};
@@ -305,20 +305,16 @@ struct FrontEndSimd {
     ts.z = plane(r.z, l);
     ts.z_min = static_cast<float>(r.z_min[l]);
     ts.z_max = static_cast<float>(r.z_max[l]);
-    ts.sort_depth = static_cast<float>(r.sort_depth[l]);
-    ts.flat = true;
+    ts.planes_base = kNoPlanes;
     ts.color = flat;
     if (per_vertex) {
-      if (r.interpolated & (1u << l)) {
-        ts.q = plane(r.q, l);
-        bool ok = is_finite(ts.q);
-        for (int ch = 0; ch < kColorChannels; ++ch) {
-          ts.c_q[ch] = plane(r.c_q[ch], l);
-          ok = ok && is_finite(ts.c_q[ch]);
-        }
-        ts.flat = !ok;
+      if (planes && (r.interpolated & (1u << l))) {
+        std::array<Plane, kColorPlanes> p;
+        p[0] = plane(r.q, l);
+        for (int ch = 0; ch < kColorChannels; ++ch) p[1 + ch] = plane(r.c_q[ch], l);
+        keep_color_planes(p, *planes, ts);
       }
-      if (ts.flat) {
+      if (is_flat(ts)) {
         // Corner 0 is never swapped by the orientation.
         std::uint8_t c[kColorChannels];
         for (int ch = 0; ch < kColorChannels; ++ch)
@@ -327,7 +323,6 @@ struct FrontEndSimd {
       }
     }
     ts.draw = draw_index;
-    ts.varying_base = varying_base;
   }
 
   /// run_front_end() with the common case in lanes.
@@ -339,8 +334,6 @@ struct FrontEndSimd {
       for (std::uint32_t t = begin; t < end; ++t) scalar.run(t);
       return;
     }
-    // A shader draw without varyings still gets its (empty) varying range from setup_varyings().
-    const bool varying_base = scalar.shader && planes;
     // Batch i is fetched into vertices[i % 2] while batch i - 1 is set up. setup()'s vector loads
     // then find fetch()'s scalar stores in the cache rather than still in flight: a load that
     // spans several in-flight stores waits for them all (store forwarding fails). With the build
@@ -376,8 +369,7 @@ struct FrontEndSimd {
         } else {
           const Rgba8 flat =
               draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
-          store(r, v, l, scalar.per_vertex, flat, draw_index,
-                varying_base ? static_cast<std::uint32_t>(planes->size()) : 0, out.emplace_back());
+          store(r, v, l, scalar.per_vertex, flat, draw_index, planes, out.emplace_back());
           ++stats.drawn;
         }
       }

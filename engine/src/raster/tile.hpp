@@ -58,7 +58,7 @@ static_assert(kBlockPixels == 64, "coverage words are 64-bit: one bit per pixel 
 struct BinRun {
   const front::TriangleSetup* tris = nullptr;
   std::span<const std::uint32_t> indices;
-  const front::Plane* planes = nullptr;  ///< the chunk's varying planes (shader draws)
+  const front::Plane* planes = nullptr;  ///< the chunk's planes (TriangleSetup::planes_base)
 };
 
 /// Frame-wide, read-only inputs of every tile.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <numeric>
 
 #include "front/front_end.hpp"
 #include "raster/depth_test.hpp"
@@ -16,17 +17,25 @@ std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int
                                               std::vector<front::Plane>* planes) {
   std::vector<front::TriangleSetup> tris;
   front::FrontStats fs;
+  std::vector<float> keys;  // the painter's sort keys, in tris' order
   for (std::size_t d = 0; d < frame.draws.size(); ++d) {
     const Draw& draw = frame.draws[d];
-    front::run_front_end(draw, static_cast<std::uint32_t>(d), 0, front::triangle_count(draw), width,
-                         height, tris, fs, planes);
+    front::TriangleFrontEnd front(draw, static_cast<std::uint32_t>(d), width, height, tris, fs,
+                                  planes);
+    if (frame.painter) front.sort_keys = &keys;
+    for (std::uint32_t t = 0; t < front::triangle_count(draw); ++t) front.run(t);
   }
   fs.add_to(stats);
   if (frame.painter) {
-    std::stable_sort(tris.begin(), tris.end(),
-                     [](const front::TriangleSetup& a, const front::TriangleSetup& b) {
-                       return a.sort_depth > b.sort_depth;
-                     });
+    // Far to near, ties in submission order: sort the indices by key, then gather.
+    std::vector<std::uint32_t> order(tris.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return keys[a] > keys[b]; });
+    std::vector<front::TriangleSetup> sorted;
+    sorted.reserve(tris.size());
+    for (std::uint32_t i : order) sorted.push_back(tris[i]);
+    tris = std::move(sorted);
   }
   return tris;
 }
@@ -81,7 +90,8 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
               shading.empty() || !shading[t.draw].generic ? nullptr : &shading[t.draw];
           const int lane = ((py % 8) * 8 + px % 8) % kShaderBatch;
           const auto colour_at = [&](float x, float y) {
-            return sh ? shade::shade_one(t, *sh, planes.data(), x, y, lane) : front::shade(t, x, y);
+            return sh ? shade::shade_one(t, *sh, planes.data(), x, y, lane)
+                      : front::shade(t, planes.data(), x, y);
           };
           Rgba8 c;
           if (frame.ssaa) {

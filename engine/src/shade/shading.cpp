@@ -19,14 +19,14 @@ void frame_shading(std::span<const Draw> draws, std::vector<DrawShading>& out) {
 
 Rgba8 shade_one(const front::TriangleSetup& t, const DrawShading& s, const front::Plane* planes,
                 float x, float y, int lane) {
-  if (!s.function) return front::shade(t, x, y);
+  if (!s.function) return front::shade(t, planes, x, y);
   ShaderInput in{};  // every lane but `lane` inactive, its varyings 0
   in.x[lane] = x;
   in.y[lane] = y;
   in.active = 1u << lane;
   in.varying_count = s.varyings;
   if (s.varyings > 0) {
-    const float q = front::eval_plane(t.q, t.x0, t.y0, x, y);
+    const float q = front::eval_plane(planes[t.planes_base], t.x0, t.y0, x, y);
     for (int k = 0; k < s.varyings; ++k) in.varying[k][lane] = varying_at(t, planes, k, q, x, y);
   }
   ShaderOutput out{};

@@ -52,10 +52,11 @@ constexpr Rgba8 blend_over(Rgba8 src, Rgba8 dst) {
           static_cast<std::uint8_t>(div255(255 * a + dst.a * ia))};
 }
 
-/// Varying k of triangle `t` at (x, y): its attr·q plane over its q plane, as colour is.
+/// Varying k of triangle `t` at (x, y): its attr·q plane over its q plane (planes[planes_base]),
+/// as colour is.
 inline float varying_at(const front::TriangleSetup& t, const front::Plane* planes, int k, float q,
                         float x, float y) {
-  return front::eval_plane(planes[t.varying_base + static_cast<std::uint32_t>(k)], t.x0, t.y0, x,
+  return front::eval_plane(planes[t.planes_base + 1 + static_cast<std::uint32_t>(k)], t.x0, t.y0, x,
                            y) /
          q;
 }
