@@ -88,11 +88,12 @@ struct RendererOptions {
   int threads = 0;
   Isa isa = Isa::kAuto;   ///< kAuto picks the best SIMD path the CPU runs
   /// Time every tile and front-end chunk into FrameStats::tile_costs / chunk_costs. Costs two
-  /// clock reads per tile and chunk; off by default.
+  /// clock reads per tile (chunks are timed anyway, for ms_setup and ms_binning); off by default.
   bool record_costs = false;
   /// Screen tile edge of the fast path in pixels: a power of two from kMinTileSize to
   /// kMaxTileSize, or 0 to let the renderer choose by the target's sample count (128 px up to 4
-  /// samples, 64 px beyond: README, "Tile sizes"). Only speed depends on it, never the image.
+  /// samples, 64 px beyond: README, "Scaling past two cores"). Only speed depends on it, never
+  /// the image.
   int tile_size = 0;
 };
 

@@ -35,9 +35,9 @@ static_assert(mosaic::kMinTileSize == kBlockSize, "tiles are whole blocks");
 inline constexpr int kBytesPerSample = 8;
 /// The most sample memory the automatic tile size lets a tile have: a quarter of the 2 MiB L2 of
 /// a core here, so that the tile's samples, the triangles streaming through and the resolve
-/// output stay in L2 together. Measured (README, "Tile sizes"): 128 px tiles (512 KiB at 4x)
-/// beat 64 px at 1x and 4x; at 16x (2 MiB, the whole L2) they lose, and at 8x (1 MiB) neither
-/// wins on every scene.
+/// output stay in L2 together. Measured (README, "Scaling past two cores"): 128 px tiles
+/// (512 KiB at 4x) beat 64 px at 1x and 4x; at 16x (2 MiB, the whole L2) they lose, and at 8x
+/// (1 MiB) neither wins on every scene.
 inline constexpr int kAutoTileBytes = 512 * 1024;
 /// The tile sizes the automatic choice picks from, largest first.
 inline constexpr int kAutoTileSizes[] = {128, 64};
