@@ -17,6 +17,14 @@ Plane make_plane(const std::array<double, 3>& X, const std::array<double, 3>& Y,
   return {static_cast<float>(f0), static_cast<float>(ddx), static_cast<float>(ddy)};
 }
 
+// 1/w at the three oriented corners, scaled so that the largest is 1. Interpolated colours and
+// varyings are (value·q) / q, where only ratios of q matter: the scaling keeps value·q within
+// the value's own range even when w is tiny.
+std::array<double, 3> normalised_q(const std::array<double, 3>& Q) {
+  const double qmax = std::max({Q[0], Q[1], Q[2]});
+  return {Q[0] / qmax, Q[1] / qmax, Q[2] / qmax};
+}
+
 }  // namespace
 
 std::int32_t snap(double px) {
@@ -117,10 +125,7 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
     const auto& c2 = v[idx[2]].color;
     // Equal vertex colours need no interpolation: flat is both faster and exact.
     if (planes && (c0 != c1 || c0 != c2)) {
-      // Only ratios of q matter (colour = (c*q) / q), so normalise the largest to 1: it keeps
-      // c*q within 0..255 even when w is tiny.
-      const double qmax = std::max({Q[0], Q[1], Q[2]});
-      std::array<double, 3> qn{Q[0] / qmax, Q[1] / qmax, Q[2] / qmax};
+      const std::array<double, 3> qn = normalised_q(Q);
       std::array<Plane, kColorPlanes> cp;
       cp[0] = make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]);
       for (int ch = 0; ch < kColorChannels; ++ch)
@@ -145,9 +150,7 @@ void setup_varyings(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basi
   out.planes_base = static_cast<std::uint32_t>(planes.size());
   const auto& [X, Y, idx, area_px2] = basis;
   const double* a[3] = {values[idx[0]], values[idx[1]], values[idx[2]]};
-  // As for colour: only ratios of q matter, so the largest is normalised to 1.
-  const double qmax = std::max({v[idx[0]].q, v[idx[1]].q, v[idx[2]].q});
-  const std::array<double, 3> qn{v[idx[0]].q / qmax, v[idx[1]].q / qmax, v[idx[2]].q / qmax};
+  const std::array<double, 3> qn = normalised_q({v[idx[0]].q, v[idx[1]].q, v[idx[2]].q});
   planes.push_back(make_plane(X, Y, area_px2, qn[0], qn[1], qn[2]));
   bool ok = is_finite(planes.back());
   for (int k = 0; k < count; ++k) {

@@ -23,7 +23,8 @@ std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int
     front::TriangleFrontEnd front(draw, static_cast<std::uint32_t>(d), width, height, tris, fs,
                                   planes);
     if (frame.painter) front.sort_keys = &keys;
-    for (std::uint32_t t = 0; t < front::triangle_count(draw); ++t) front.run(t);
+    const std::uint32_t n = front::triangle_count(draw);
+    for (std::uint32_t t = 0; t < n; ++t) front.run(t);
   }
   fs.add_to(stats);
   if (frame.painter) {
