@@ -56,9 +56,12 @@ static_assert(kBlockPixels == 64, "coverage words are 64-bit: one bit per pixel 
 
 /// The triangles of one tile: runs of indices into per-chunk setup arrays, in submission order.
 struct BinRun {
+  /// `draw` of a run whose triangles come from several draws (the painter's single chunk).
+  static constexpr std::uint32_t kMixedDraws = UINT32_MAX;
   const front::TriangleSetup* tris = nullptr;
   std::span<const std::uint32_t> indices;
   const front::Plane* planes = nullptr;  ///< the chunk's planes (TriangleSetup::planes_base)
+  std::uint32_t draw = kMixedDraws;       ///< the draw of every triangle in the run
 };
 
 /// Frame-wide, read-only inputs of every tile.

@@ -16,8 +16,8 @@
 // A draw with a shader or blending (generic, shade/shading.hpp) takes the same steps 1-4, keeps
 // each sample's passing lanes, and then colours the block in batches of kShaderBatch pixels:
 // one call of the shader's batch function per batch (not per pixel), then blending per sample.
-// The kernel a triangle gets is specialised on what its draw uses (triangle() picks it): the
-// depth test and write, flat or interpolated colour, MSAA or SSAA, and colour write — a
+// The kernel a triangle gets is specialised on what its draw uses (raster/kernel_traits.hpp;
+// pick() chooses once per bin run): the depth test and write, the colour mode, MSAA or SSAA — a
 // depth-only draw shades nothing and touches no colour memory, and at one sample its kernel is
 // specialised once more (the occluder pass). The tile clears and resolves only the buffers the
 // frame uses (TileFrame::keep_color, keep_depth).
@@ -40,6 +40,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "raster/hiz.hpp"
+#include "raster/kernel_traits.hpp"
 #include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
 #include "simd/mask.hpp"
@@ -137,56 +138,50 @@ struct TileKernelImpl {
     const front::Plane* planes = nullptr;  ///< plane array of the bin run being drawn
   };
 
-  // Chooses the specialisation of triangle_impl() for the draw's state, so that the inner loops
-  // carry no branch on state they do not use.
-  static void triangle(Context& cx, const front::TriangleSetup& t) {
-    const DrawState& ds = cx.f.states[t.draw];
-    // A depth-only draw neither shades nor touches colour: flat or SSAA make no difference to it.
-    // With one sample, the depth-only kernel (the occluder pass) is specialised further.
+  using TriangleFn = void (*)(Context&, const front::TriangleSetup&);
+  /// The kernels of one draw's triangles: those without colour planes, and those with.
+  struct DrawKernels {
+    TriangleFn flat = nullptr, interpolated = nullptr;
+  };
+
+  // The specialisations of triangle_impl() a draw's state asks for. Called once per bin run (a
+  // run's triangles come from one draw), not per triangle.
+  static DrawKernels pick(const TileFrame& f, std::uint32_t draw) {
+    const DrawState& ds = f.states[draw];
     if (!ds.color_write) {
-      if (cx.f.samples == 1) return triangle_depth<false, true, false, true>(cx, t, ds);
-      return triangle_depth<false, true, false, false>(cx, t, ds);
+      // A depth-only draw shades nothing; at one sample (the occluder pass) it is specialised.
+      const TriangleFn k = f.samples == 1 ? by_depth<ColorMode::kNone, false, true>(ds)
+                                          : by_depth<ColorMode::kNone, false, false>(ds);
+      return {k, k};
     }
-    // Shaders and blending: one kernel per depth mode, SSAA decided when colouring.
-    if (!cx.f.shading.empty() && cx.f.shading[t.draw].generic)
-      return triangle_depth<false, false, true, false, true>(cx, t, ds);
-    if (cx.f.ssaa) return triangle_state<true>(cx, t, ds);
-    return triangle_state<false>(cx, t, ds);
+    if (!f.shading.empty() && f.shading[draw].generic) {
+      const TriangleFn k = by_depth<ColorMode::kGeneric, false, false>(ds);
+      return {k, k};
+    }
+    const TriangleFn flat = by_depth<ColorMode::kFlat, false, false>(ds);
+    if (f.ssaa) return {flat, by_depth<ColorMode::kInterpolated, true, false>(ds)};
+    return {flat, by_depth<ColorMode::kInterpolated, false, false>(ds)};
   }
-  template <bool kSsaa>
-  static void triangle_state(Context& cx, const front::TriangleSetup& t, const DrawState& ds) {
-    if (front::is_flat(t)) return triangle_depth<kSsaa, true>(cx, t, ds);
-    return triangle_depth<kSsaa, false>(cx, t, ds);
-  }
-  template <bool kSsaa, bool kFlat, bool kColor = true, bool kS1 = false, bool kGeneric = false>
-  static void triangle_depth(Context& cx, const front::TriangleSetup& t, const DrawState& ds) {
-    const bool w = ds.depth_write;
+  template <ColorMode kColor, bool kSsaa, bool kOneSample>
+  static TriangleFn by_depth(const DrawState& ds) {
     switch (ds.depth_test) {
       case DepthTest::kLess:
-        return w ? triangle_impl<DepthTest::kLess, true, kFlat, kSsaa, kColor, kS1, kGeneric>(cx, t)
-                 : triangle_impl<DepthTest::kLess, false, kFlat, kSsaa, kColor, kS1, kGeneric>(cx,
-                                                                                               t);
+        return with_write<DepthTest::kLess, kColor, kSsaa, kOneSample>(ds.depth_write);
       case DepthTest::kLessEqual:
-        return w ? triangle_impl<DepthTest::kLessEqual, true, kFlat, kSsaa, kColor, kS1, kGeneric>(
-                       cx, t)
-                 : triangle_impl<DepthTest::kLessEqual, false, kFlat, kSsaa, kColor, kS1, kGeneric>(
-                       cx, t);
+        return with_write<DepthTest::kLessEqual, kColor, kSsaa, kOneSample>(ds.depth_write);
       case DepthTest::kGreater:
-        return w ? triangle_impl<DepthTest::kGreater, true, kFlat, kSsaa, kColor, kS1, kGeneric>(cx,
-                                                                                                 t)
-                 : triangle_impl<DepthTest::kGreater, false, kFlat, kSsaa, kColor, kS1, kGeneric>(
-                       cx, t);
+        return with_write<DepthTest::kGreater, kColor, kSsaa, kOneSample>(ds.depth_write);
       case DepthTest::kGreaterEqual:
-        return w ? triangle_impl<DepthTest::kGreaterEqual, true, kFlat, kSsaa, kColor, kS1,
-                                 kGeneric>(cx, t)
-                 : triangle_impl<DepthTest::kGreaterEqual, false, kFlat, kSsaa, kColor, kS1,
-                                 kGeneric>(cx, t);
+        return with_write<DepthTest::kGreaterEqual, kColor, kSsaa, kOneSample>(ds.depth_write);
       case DepthTest::kAlways:
-        return w ? triangle_impl<DepthTest::kAlways, true, kFlat, kSsaa, kColor, kS1, kGeneric>(cx,
-                                                                                                t)
-                 : triangle_impl<DepthTest::kAlways, false, kFlat, kSsaa, kColor, kS1, kGeneric>(cx,
-                                                                                                 t);
+        break;
     }
+    return with_write<DepthTest::kAlways, kColor, kSsaa, kOneSample>(ds.depth_write);
+  }
+  template <DepthTest kTest, ColorMode kColor, bool kSsaa, bool kOneSample>
+  static TriangleFn with_write(bool write) {
+    if (write) return &triangle_impl<KernelTraits<kTest, true, kColor, kSsaa, kOneSample>>;
+    return &triangle_impl<KernelTraits<kTest, false, kColor, kSsaa, kOneSample>>;
   }
 
   template <DepthTest kTest>
@@ -209,9 +204,13 @@ struct TileKernelImpl {
     return 1;
   }
 
-  template <DepthTest kTest, bool kWrite, bool kFlat, bool kSsaa, bool kColor, bool kS1,
-            bool kGeneric>
+  template <class K>
   static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
+    constexpr DepthTest kTest = K::kTest;
+    constexpr bool kWrite = K::kWrite, kSsaa = K::kSsaa, kS1 = K::kOneSample;
+    constexpr bool kColor = K::kColor != ColorMode::kNone;
+    constexpr bool kFlat = K::kColor == ColorMode::kFlat;
+    constexpr bool kGeneric = K::kColor == ColorMode::kGeneric;
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
     const int S = kS1 ? 1 : f.samples;
@@ -893,6 +892,8 @@ struct TileKernelImpl {
     for (const BinRun& run : bin) {
       const std::span<const std::uint32_t> idx = run.indices;
       cx.planes = run.planes;
+      const bool mixed = run.draw == BinRun::kMixedDraws;
+      DrawKernels kernels = mixed ? DrawKernels{} : pick(f, run.draw);
       for (std::size_t k = 0; k < idx.size(); ++k) {
         // A bin's triangles lie far apart in the setup arrays (a tile takes a sparse subset),
         // so each is a cache miss: fetch the setup kPrefetchAhead triangles ahead while this one
@@ -913,7 +914,9 @@ struct TileKernelImpl {
             __builtin_prefetch(p + kColorPlaneBytes - 1);  // they may straddle two lines
           }
         }
-        triangle(cx, run.tris[idx[k]]);
+        const front::TriangleSetup& t = run.tris[idx[k]];
+        if (mixed) kernels = pick(f, t.draw);
+        (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
       }
     }
     const auto r0 = std::chrono::steady_clock::now();

@@ -1,0 +1,32 @@
+// raster/kernel_traits.hpp — what a tile kernel is specialised on, chosen once per draw.
+//
+// Takes: a draw's state and the frame's sample mode. Gives: the traits of the kernel its
+// triangles take, so that the inner loops carry no branch on state a draw does not use.
+#pragma once
+
+#include "mosaic/draw.hpp"
+
+namespace mosaic::raster {
+
+/// What a draw's triangles colour.
+enum class ColorMode {
+  kNone,          ///< nothing: a depth-only draw touches no colour memory
+  kFlat,          ///< one colour per triangle (TriangleSetup::color)
+  kInterpolated,  ///< vertex colour, perspective-correct, per pixel (MSAA) or per sample (SSAA)
+  kGeneric,       ///< a fragment shader or blending: shaded in batches after the depth test
+};
+
+/// One specialisation of the tile kernel's triangle loop.
+template <DepthTest Test, bool Write, ColorMode Color, bool Ssaa, bool OneSample>
+struct KernelTraits {
+  static constexpr DepthTest kTest = Test;
+  static constexpr bool kWrite = Write;  ///< the depth write
+  static constexpr ColorMode kColor = Color;
+  /// Interpolated colour per sample, not per pixel (only kInterpolated depends on it: a flat
+  /// colour is the same either way, and the generic path decides when it colours).
+  static constexpr bool kSsaa = Ssaa;
+  /// One sample per pixel, at its centre: the depth-only occluder pass is specialised on it.
+  static constexpr bool kOneSample = OneSample;
+};
+
+}  // namespace mosaic::raster
