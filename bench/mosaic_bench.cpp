@@ -217,6 +217,7 @@ struct StageRig {
   std::vector<Job> jobs;
   std::vector<mosaic::bin::Chunk> chunks;
   mosaic::bin::TileGrid grid;
+  std::span<const mosaic::raster::SampleOffset> pattern;  ///< the binner culls by it
   std::unique_ptr<tbb::global_control> parallelism;  // outlives the arena
   tbb::task_arena arena;
   mosaic::raster::TileKernel kernel = nullptr;
@@ -229,6 +230,7 @@ struct StageRig {
       : scene(s),
         draws(s.draws()),
         grid(s.width, s.height, mosaic::default_tile_size(samples)),
+        pattern(mosaic::raster::sample_pattern(samples)),
         parallelism(threads > tbb::info::default_concurrency()
                         ? std::make_unique<tbb::global_control>(
                               tbb::global_control::max_allowed_parallelism,
@@ -262,7 +264,7 @@ struct StageRig {
   void binning() {
     arena.execute([&] {
       tbb::parallel_for(std::size_t{0}, chunks.size(),
-                        [&](std::size_t i) { mosaic::bin::bin_chunk(chunks[i], grid); });
+                        [&](std::size_t i) { mosaic::bin::bin_chunk(chunks[i], grid, pattern); });
     });
   }
 
@@ -299,9 +301,11 @@ struct StageRig {
               const int t = order[k].second;
               bin.clear();
               if (!empty) {
-                for (const mosaic::bin::Chunk& c : chunks) {
+                for (std::size_t i = 0; i < chunks.size(); ++i) {
+                  const mosaic::bin::Chunk& c = chunks[i];
                   const auto span = c.bin(t);
-                  if (!span.empty()) bin.push_back({c.tris.data(), span, c.planes.data()});
+                  if (!span.empty())
+                    bin.push_back({c.tris.data(), span, c.planes.data(), jobs[i].draw});
                 }
               }
               kernel(tf, grid.rect(t), bin, sc, ts);

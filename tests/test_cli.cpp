@@ -213,6 +213,7 @@ TEST_F(CliTest, StatsPrintsOneJsonObjectWithEveryField) {
                           "triangles_degenerate",
                           "triangles_outside",
                           "triangles_clipped",
+                          "triangles_no_sample",
                           "triangles_drawn",
                           "triangles_binned",
                           "blocks_hiz_rejected",

@@ -210,6 +210,7 @@ int run_render(const RenderOptions& o) {
     j["triangles_degenerate"] = last.triangles_degenerate;
     j["triangles_outside"] = last.triangles_outside;
     j["triangles_clipped"] = last.triangles_clipped;
+    j["triangles_no_sample"] = last.triangles_no_sample;
     j["triangles_drawn"] = last.triangles_drawn;
     j["triangles_binned"] = last.triangles_binned;
     j["blocks_hiz_rejected"] = last.blocks_hiz_rejected;

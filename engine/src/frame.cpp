@@ -25,6 +25,7 @@
 #include "mosaic/renderer.hpp"
 #include "bin/binner.hpp"
 #include "raster/hiz.hpp"
+#include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
 #include "reference/reference.hpp"
 #include "simd/dispatch.hpp"
@@ -290,12 +291,15 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   // Thread time of the chunks' setup and binning, which split the stage's wall time between
   // FrameStats::ms_setup and ms_binning.
   tbb::combinable<double> setup_thread_ms, binning_thread_ms;
-  tbb::combinable<std::uint64_t> binned;
+  tbb::combinable<std::uint64_t> binned, no_sample;
+  const auto pattern = raster::sample_pattern(S);
   const bool record = options.record_costs;
   if (record) stats.chunk_costs.assign(nchunks, {});
   auto bin_after = [&](std::size_t i, std::uint32_t triangles, Clock::time_point c0,
                        Clock::time_point c1) {
-    binned.local() += bin::bin_chunk(chunks[i], grid);
+    const bin::BinCounts counts = bin::bin_chunk(chunks[i], grid, pattern);
+    binned.local() += counts.pairs;
+    no_sample.local() += counts.no_sample;
     const auto c2 = Clock::now();
     setup_thread_ms.local() += ms_between(c0, c1);
     binning_thread_ms.local() += ms_between(c1, c2);
@@ -322,6 +326,8 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   });
   front_stats.combine_each([&](const front::FrontStats& fs) { fs.add_to(stats); });
   stats.triangles_binned = binned.combine(std::plus<>());
+  stats.triangles_no_sample = no_sample.combine(std::plus<>());
+  stats.triangles_drawn -= stats.triangles_no_sample;
   const auto t2 = Clock::now();
   const double setup_share = setup_thread_ms.combine(std::plus<>()),
                binning_share = binning_thread_ms.combine(std::plus<>());
@@ -395,7 +401,8 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
             for (std::size_t c = 0; c < nchunks; ++c) {
               const auto span = chunks[c].bin(t);
               if (!span.empty())
-                bin.push_back({chunks[c].tris.data(), span, chunks[c].planes.data()});
+                bin.push_back({chunks[c].tris.data(), span, chunks[c].planes.data(),
+                               frame.painter ? raster::BinRun::kMixedDraws : jobs[c].draw});
             }
             const auto c0 = record ? Clock::now() : Clock::time_point{};
             const raster::TileRect rect = grid.rect(t);

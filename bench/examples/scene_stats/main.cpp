@@ -94,10 +94,10 @@ int main(int argc, char** argv) {
     const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
     std::printf(
         "  triangles in %llu, drawn %llu, clipped %llu, culled: face %llu, degenerate %llu, "
-        "outside %llu, non-finite %llu\n",
+        "outside %llu, non-finite %llu, no sample %llu\n",
         u(last.triangles_in), u(last.triangles_drawn), u(last.triangles_clipped),
         u(last.triangles_culled_face), u(last.triangles_degenerate), u(last.triangles_outside),
-        u(last.triangles_nonfinite));
+        u(last.triangles_nonfinite), u(last.triangles_no_sample));
     std::printf("  (triangle, tile) pairs %llu, hi-z blocks rejected %llu, accepted %llu\n",
                 u(last.triangles_binned), u(last.blocks_hiz_rejected), u(last.blocks_hiz_accepted));
     std::printf("  samples tested %llu, written %llu\n", u(last.samples_tested),

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "bin/sample_cull.hpp"
+
 namespace mosaic::bin {
 
 raster::TileRect TileGrid::rect(int tile) const {
@@ -31,7 +33,9 @@ bool edges_touch(const front::TriangleSetup& t, int tx, int ty, std::int64_t spa
 
 }  // namespace
 
-std::uint64_t bin_chunk(Chunk& c, const TileGrid& grid) {
+BinCounts bin_chunk(Chunk& c, const TileGrid& grid,
+                    std::span<const raster::SampleOffset> pattern) {
+  BinCounts counts;
   const int tiles = grid.count();
   c.offsets.assign(static_cast<std::size_t>(tiles) + 1, 0);
   c.pairs.clear();
@@ -39,6 +43,10 @@ std::uint64_t bin_chunk(Chunk& c, const TileGrid& grid) {
   const std::int64_t span = std::int64_t{grid.size} * front::kSubpixelOne;
   for (std::uint32_t i = 0; i < c.tris.size(); ++i) {
     const front::TriangleSetup& t = c.tris[i];
+    if (covers_no_sample(t, pattern)) {
+      ++counts.no_sample;
+      continue;
+    }
     const int tx0 = t.bx0 >> shift, tx1 = (t.bx1 - 1) >> shift;
     const int ty0 = t.by0 >> shift, ty1 = (t.by1 - 1) >> shift;
     const bool single = tx0 == tx1 && ty0 == ty1;
@@ -62,7 +70,8 @@ std::uint64_t bin_chunk(Chunk& c, const TileGrid& grid) {
   // After the scatter, cursor[t] is the end of bin t: shift back to get the starts.
   for (int t = tiles; t > 0; --t) c.offsets[t] = c.offsets[t - 1];
   c.offsets[0] = 0;
-  return c.pairs.size();
+  counts.pairs = c.pairs.size();
+  return counts;
 }
 
 }  // namespace mosaic::bin

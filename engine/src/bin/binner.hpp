@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "front/setup.hpp"
+#include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
 
 namespace mosaic::bin {
@@ -45,9 +46,16 @@ struct Chunk {
   }
 };
 
-/// Bins `chunk.tris` into `chunk.offsets` / `chunk.indices`. A triangle whose bounding box spans
-/// several tiles goes only to the tiles that its three edges do not trivially reject.
-/// Returns the number of (triangle, tile) pairs.
-std::uint64_t bin_chunk(Chunk& chunk, const TileGrid& grid);
+/// What binning one chunk produced.
+struct BinCounts {
+  std::uint64_t pairs = 0;      ///< (triangle, tile) pairs in the bins
+  std::uint64_t no_sample = 0;  ///< triangles culled: they cover no sample (bin/sample_cull.hpp)
+};
+
+/// Bins `chunk.tris` into `chunk.offsets` / `chunk.indices`. A triangle that covers no sample of
+/// `pattern` (covers_no_sample()) goes to no tile; one whose bounding box spans several tiles
+/// goes only to the tiles that its three edges do not trivially reject.
+BinCounts bin_chunk(Chunk& chunk, const TileGrid& grid,
+                    std::span<const raster::SampleOffset> pattern);
 
 }  // namespace mosaic::bin

@@ -1,0 +1,42 @@
+// bin/sample_cull.hpp — culling set-up triangles that cover no sample, before they are binned.
+//
+// Takes: a TriangleSetup and the frame's sample pattern. Gives: whether the triangle provably
+// covers no sample, so that no tile ever sees it. A tiny triangle (a distant mesh's are far below
+// a pixel) costs a tile kernel its whole per-triangle setup for nothing; here its few candidate
+// samples, those of its box, are tested with the exact int64 edge functions every rasterizer
+// uses, so a culled triangle is one that would have written nothing: the image never changes.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "front/setup.hpp"
+#include "raster/sample_patterns.hpp"
+
+namespace mosaic::bin {
+
+/// The most candidate samples (box pixels × samples per pixel) the cull tests. A test costs a few
+/// instructions per candidate and stops at the first covered one, against the hundreds a tile
+/// kernel spends on any triangle it visits; larger boxes are left to the kernels, which reject
+/// empty blocks anyway.
+inline constexpr int kMaxCullCandidates = 32;
+
+/// True when no sample of `pattern` inside the triangle's box is covered (all three E >= 0).
+/// Boxes of more than kMaxCullCandidates samples answer false without testing: "not proven".
+inline bool covers_no_sample(const front::TriangleSetup& t,
+                             std::span<const raster::SampleOffset> pattern) {
+  const std::int64_t w = t.bx1 - t.bx0, h = t.by1 - t.by0;
+  if (w * h * static_cast<std::int64_t>(pattern.size()) > kMaxCullCandidates) return false;
+  for (int py = t.by0; py < t.by1; ++py) {
+    for (int px = t.bx0; px < t.bx1; ++px) {
+      for (const raster::SampleOffset o : pattern) {
+        const std::int64_t sx = raster::sample_x_fixed(px, o), sy = raster::sample_y_fixed(py, o);
+        if (t.edge[0](sx, sy) >= 0 && t.edge[1](sx, sy) >= 0 && t.edge[2](sx, sy) >= 0)
+          return false;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace mosaic::bin

@@ -1,0 +1,238 @@
+// The binner's cull of triangles that cover no sample (bin/sample_cull.hpp), checked against an
+// independent exact oracle: orientation tests on the snapped vertices themselves, not the setup's
+// edge functions. Tiny triangles, and needles along each axis and the diagonal whose boxes hold
+// just up to and just over bin::kMaxCullCandidates samples, on every path and sample count.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bin/sample_cull.hpp"
+#include "mosaic/mosaic.hpp"
+#include "raster/sample_patterns.hpp"
+#include "scenes/rng.hpp"
+
+namespace {
+
+using mosaic::Isa;
+using Pt = std::array<std::int64_t, 2>;  // 16.8 units
+constexpr std::int64_t kPx = 256;        // one pixel in 16.8 units
+
+// Each triangle lives in its own cell, so that no two overlap.
+constexpr int kCell = 40, kCellsPerRow = 8;
+
+enum class Kind { kTiny, kNeedleX, kNeedleY, kNeedleDiagonal };
+
+struct Tri {
+  std::array<Pt, 3> v;
+  int cell = 0;  ///< the triangle lies inside cell (cell % kCellsPerRow, cell / kCellsPerRow)
+  bool at_threshold = false;  ///< a needle whose box holds at most kMaxCullCandidates samples
+};
+
+std::int64_t orient(Pt a, Pt b, Pt p) {
+  return (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+}
+
+// Sample positions within a pixel, in 16.8 units: the largest x and y offset of the pattern.
+std::int64_t max_offset(std::span<const mosaic::raster::SampleOffset> pattern, bool y) {
+  std::int64_t m = 0;
+  for (const auto o : pattern)
+    m = std::max(m, y ? mosaic::raster::sample_y_fixed(0, o) : mosaic::raster::sample_x_fixed(0, o));
+  return m;
+}
+
+// Box of a triangle as setup makes it: the pixels floor(min / 256) .. floor(max / 256).
+int box_pixels(const Tri& t) {
+  std::int64_t x0 = t.v[0][0], x1 = x0, y0 = t.v[0][1], y1 = y0;
+  for (const Pt& p : t.v) {
+    x0 = std::min(x0, p[0]);
+    x1 = std::max(x1, p[0]);
+    y0 = std::min(y0, p[1]);
+    y1 = std::max(y1, p[1]);
+  }
+  return static_cast<int>((x1 / kPx - x0 / kPx + 1) * (y1 / kPx - y0 / kPx + 1));
+}
+
+// Needle and tiny triangles in cell (cx, cy). Needles lie between the pattern's last sample row
+// (or column) and the next pixel, so that they cover no sample; `n` is their box length in px.
+Tri make_tri(Kind kind, int n, mosaic::SplitMix64& rng, int cell,
+             std::span<const mosaic::raster::SampleOffset> pattern) {
+  const std::int64_t ox = (cell % kCellsPerRow) * kCell * kPx + kPx,
+                     oy = (cell / kCellsPerRow) * kCell * kPx + kPx;
+  const auto jitter = [&](std::int64_t lo, std::int64_t hi) {
+    return lo + static_cast<std::int64_t>(rng.next() % static_cast<std::uint64_t>(hi - lo + 1));
+  };
+  Tri t;
+  t.cell = cell;
+  const std::int64_t gx = max_offset(pattern, false) + 2, gy = max_offset(pattern, true) + 2;
+  switch (kind) {
+    case Kind::kTiny: {
+      // Up to 2.5 px: boxes of 1 to 3 pixels a side, some with samples, most without.
+      const std::int64_t bx = ox + jitter(0, kPx), by = oy + jitter(0, kPx);
+      for (Pt& p : t.v) p = {bx + jitter(0, 5 * kPx / 2), by + jitter(0, 5 * kPx / 2)};
+      break;
+    }
+    case Kind::kNeedleX: {
+      const std::int64_t x0 = ox + jitter(0, 20), x1 = ox + (n - 1) * kPx + jitter(200, 250);
+      const std::int64_t ya = oy + jitter(gy, 250), yb = std::min<std::int64_t>(ya + 4, oy + 254);
+      t.v = {Pt{x0, ya}, Pt{x1, ya}, Pt{x1, yb}};
+      break;
+    }
+    case Kind::kNeedleY: {
+      const std::int64_t y0 = oy + jitter(0, 20), y1 = oy + (n - 1) * kPx + jitter(200, 250);
+      const std::int64_t xa = ox + jitter(gx, 250), xb = std::min<std::int64_t>(xa + 4, ox + 254);
+      t.v = {Pt{xa, y0}, Pt{xb, y1}, Pt{xa, y1}};
+      break;
+    }
+    case Kind::kNeedleDiagonal: {
+      // From near the top-left corner of an n × n pixel box to near its bottom-right, 3 units wide.
+      const std::int64_t x0 = ox + jitter(0, 40), y0 = oy + jitter(0, 40);
+      const std::int64_t x1 = ox + (n - 1) * kPx + jitter(200, 250),
+                         y1 = oy + (n - 1) * kPx + jitter(200, 250);
+      t.v = {Pt{x0, y0}, Pt{x1, y1}, Pt{x1, y1 - 3}};
+      break;
+    }
+  }
+  return t;
+}
+
+struct Expected {
+  std::vector<int> owner;  ///< per sample of the target: the triangle covering it, or -1
+  std::vector<std::uint64_t> covered;  ///< per triangle
+  std::uint64_t written = 0, culled = 0;
+  /// Per triangle: some sample lies exactly on one of its edges, where the fill rule decides.
+  std::vector<bool> ambiguous;
+};
+
+Expected oracle(const std::vector<Tri>& tris, int w, int h,
+                std::span<const mosaic::raster::SampleOffset> pattern) {
+  const int S = static_cast<int>(pattern.size());
+  Expected e;
+  e.owner.assign(static_cast<std::size_t>(w) * h * S, -1);
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    const Tri& t = tris[i];
+    std::uint64_t covered = 0;
+    bool ambiguous = false;
+    const int cx = (t.cell % kCellsPerRow) * kCell, cy = (t.cell / kCellsPerRow) * kCell;
+    for (int py = cy; py < std::min(h, cy + kCell); ++py) {
+      for (int px = cx; px < std::min(w, cx + kCell); ++px) {
+        for (int s = 0; s < S; ++s) {
+          const Pt p{mosaic::raster::sample_x_fixed(px, pattern[s]),
+                     mosaic::raster::sample_y_fixed(py, pattern[s])};
+          const std::int64_t o0 = orient(t.v[0], t.v[1], p), o1 = orient(t.v[1], t.v[2], p),
+                             o2 = orient(t.v[2], t.v[0], p);
+          if (o0 == 0 || o1 == 0 || o2 == 0) {
+            // On an edge's line: ambiguous only if it is on the edge itself (within the box).
+            const bool pos = (o0 >= 0 && o1 >= 0 && o2 >= 0), neg = (o0 <= 0 && o1 <= 0 && o2 <= 0);
+            ambiguous |= pos || neg;
+            continue;
+          }
+          if ((o0 > 0 && o1 > 0 && o2 > 0) || (o0 < 0 && o1 < 0 && o2 < 0)) {
+            e.owner[(static_cast<std::size_t>(py) * w + px) * S + s] = static_cast<int>(i);
+            ++covered;
+          }
+        }
+      }
+    }
+    e.written += covered;
+    e.covered.push_back(covered);
+    e.ambiguous.push_back(ambiguous);
+    if (covered == 0 && box_pixels(t) * S <= mosaic::bin::kMaxCullCandidates) ++e.culled;
+  }
+  return e;
+}
+
+mosaic::Rgba8 color_of(int i) {
+  return {static_cast<std::uint8_t>(i + 1), static_cast<std::uint8_t>((i + 1) >> 8), 77, 255};
+}
+
+TEST(BinCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
+  const std::vector<Isa> isas = mosaic::available_isas();  // the reference included
+  mosaic::SplitMix64 rng{2024};
+  for (int samples : {1, 4, 8, 16}) {
+    const auto pattern = mosaic::raster::sample_pattern(samples);
+    // The longest needle whose box still holds at most kMaxCullCandidates samples.
+    const int line = mosaic::bin::kMaxCullCandidates / samples;
+    int diagonal = 1;
+    while ((diagonal + 1) * (diagonal + 1) * samples <= mosaic::bin::kMaxCullCandidates) ++diagonal;
+    std::vector<Tri> tris;
+    int cell = 0;
+    for (int k = 0; k < 160; ++k) tris.push_back(make_tri(Kind::kTiny, 0, rng, cell++, pattern));
+    for (int k = 0; k < 8; ++k) {
+      for (const bool over : {false, true}) {
+        for (const Kind kind : {Kind::kNeedleX, Kind::kNeedleY}) {
+          Tri t = make_tri(kind, line + over, rng, cell++, pattern);
+          t.at_threshold = !over;
+          tris.push_back(t);
+        }
+        Tri t = make_tri(Kind::kNeedleDiagonal, diagonal + over, rng, cell++, pattern);
+        t.at_threshold = !over;
+        tris.push_back(t);
+      }
+    }
+    const int w = kCell * kCellsPerRow, h = kCell * ((cell + kCellsPerRow - 1) / kCellsPerRow);
+    // The oracle leaves the fill rule to the other tests: drop triangles with a sample on an edge.
+    const Expected first = oracle(tris, w, h, pattern);
+    std::vector<Tri> kept;
+    for (std::size_t i = 0; i < tris.size(); ++i)
+      if (!first.ambiguous[i]) kept.push_back(tris[i]);
+    tris = kept;
+    const Expected want = oracle(tris, w, h, pattern);
+    // The needles reach the threshold from both sides: some at it cover no sample (so the renders
+    // must cull them), and some one pixel over it cover none either (so they must not).
+    int empty_at = 0, empty_over = 0;
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      if (tris[i].at_threshold) empty_at += want.covered[i] == 0;
+      if (box_pixels(tris[i]) * samples > mosaic::bin::kMaxCullCandidates)
+        empty_over += want.covered[i] == 0;
+    }
+    EXPECT_GT(empty_at, 0) << samples << "x";
+    EXPECT_GT(empty_over, 0) << samples << "x";
+
+    std::vector<glm::vec4> positions;
+    std::vector<mosaic::Rgba8> colors;
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      for (const Pt& p : tris[i].v)
+        positions.push_back({static_cast<float>(p[0]) / kPx, static_cast<float>(p[1]) / kPx, 0.5f,
+                             1.0f});
+      colors.push_back(color_of(static_cast<int>(i)));
+    }
+    mosaic::Draw d;
+    d.space = mosaic::Space::kScreen;
+    d.positions = positions;
+    d.color_source = mosaic::ColorSource::kPerTriangle;
+    d.colors = colors;
+    d.state.depth_test = mosaic::DepthTest::kAlways;
+    d.state.depth_write = false;
+    const mosaic::Draw draws[] = {d};
+    mosaic::Frame frame;
+    frame.draws = draws;
+    for (const Isa isa : isas) {
+      for (const int threads : {1, 2}) {
+        if (isa == Isa::kReference && threads == 2) continue;
+        const std::string what = std::string(mosaic::to_string(isa)) + " " +
+                                 std::to_string(samples) + "x " + std::to_string(threads) + "T";
+        mosaic::RenderTarget target(w, h, samples, {true, false});
+        const mosaic::Rgba8 clear{0, 0, 0, 255};
+        target.set_clear(clear, 1.0f);
+        mosaic::Renderer r({.threads = threads, .isa = isa});
+        const mosaic::FrameStats st = r.render(frame, target);
+        EXPECT_EQ(st.triangles_no_sample, want.culled) << what;
+        EXPECT_EQ(st.triangles_drawn, tris.size() - want.culled) << what;
+        EXPECT_EQ(st.samples_written, want.written) << what;
+        const auto sc = target.sample_color();
+        std::size_t bad = 0;
+        for (std::size_t i = 0; i < sc.size(); ++i) {
+          const mosaic::Rgba8 c = want.owner[i] < 0 ? clear : color_of(want.owner[i]);
+          bad += !(sc[i] == c);
+        }
+        EXPECT_EQ(bad, 0u) << what;
+      }
+    }
+  }
+}
+
+}  // namespace
