@@ -4,14 +4,19 @@
 // Takes: a triangle's setup (for its depth over a block), or a frame's per-sample depth. Gives:
 // BlockDepthRange (a triangle's depth range over a pixel rectangle, bounding every per-sample
 // depth any rasterizer computes there), hiz_hidden() (whether a depth range can pass a test
-// against a block's bounds), and the frame-level block bounds built from per-sample depth.
+// against a block's bounds), and the frame-level block bounds built from per-sample depth; for the
+// tile kernels, the same tests with the depth test known at compile time, the upkeep of a block's
+// bounds as triangles write it, and the SIMD reductions of a tile's and a block's bounds.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <utility>
+
+#include <xsimd/xsimd.hpp>
 
 #include "front/setup.hpp"
 #include "mosaic/types.hpp"
@@ -88,5 +93,83 @@ inline void block_bounds_from_samples(std::span<const float> depth, int width, i
     }
   }
 }
+
+/// Hierarchical z for one block, the test known at compile time (the tile kernels): -1 rejects
+/// the block (no sample can pass), 0 needs the per-sample test, 1 accepts every covered sample
+/// without it.
+template <DepthTest kTest>
+[[gnu::always_inline]] inline int hiz_classify(float tlo, float thi, float bz_min, float bz_max) {
+  if constexpr (kTest == DepthTest::kLess) return tlo >= bz_max ? -1 : (thi < bz_min ? 1 : 0);
+  if constexpr (kTest == DepthTest::kLessEqual) return tlo > bz_max ? -1 : (thi <= bz_min ? 1 : 0);
+  if constexpr (kTest == DepthTest::kGreater) return thi <= bz_min ? -1 : (tlo > bz_max ? 1 : 0);
+  if constexpr (kTest == DepthTest::kGreaterEqual) return thi < bz_min ? -1 : (tlo >= bz_max ? 1 : 0);
+  return 1;
+}
+
+/// Keeps a block's bounds [zmn, zmx] conservative after a triangle whose depth over the block is
+/// in [blo, bhi] wrote some of its samples: each covered sample now holds either the new depth or
+/// an old one the test kept because it was nearer. `all_covered`: the triangle covered every
+/// sample of the block; `all_written`: it wrote every one.
+template <DepthTest kTest>
+[[gnu::always_inline]] inline void update_block_bounds(float& zmn, float& zmx, float blo, float bhi, bool all_covered,
+                         bool all_written) {
+  if constexpr (kTest == DepthTest::kLess || kTest == DepthTest::kLessEqual) {
+    zmn = all_written ? blo : std::min(zmn, blo);
+    if (all_covered) zmx = std::min(zmx, bhi);  // kept depths were nearer: below bhi
+  } else if constexpr (kTest == DepthTest::kGreater || kTest == DepthTest::kGreaterEqual) {
+    zmx = all_written ? bhi : std::max(zmx, bhi);
+    if (all_covered) zmn = std::max(zmn, blo);
+  } else {
+    zmn = all_written ? blo : std::min(zmn, blo);
+    zmx = all_written ? bhi : std::max(zmx, bhi);
+  }
+}
+
+/// The tile kernels' bound reductions, in SIMD lanes of instruction set A.
+template <class A>
+struct HizSimd {
+  using F = xsimd::batch<float, A>;
+  static constexpr int L = static_cast<int>(F::size);
+
+  /// The union of n blocks' bounds (a tile's bounds from its blocks').
+  static std::pair<float, float> union_of(const float* zmin, const float* zmax, int n) {
+    const int vec = n / L * L;
+    F lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+    for (int i = 0; i < vec; i += L) {
+      lo = xsimd::min(lo, F::load_aligned(zmin + i));
+      hi = xsimd::max(hi, F::load_aligned(zmax + i));
+    }
+    auto [l, h] = reduce(lo, hi);
+    for (int i = vec; i < n; ++i) {
+      l = std::min(l, zmin[i]);
+      h = std::max(h, zmax[i]);
+    }
+    return {l, h};
+  }
+
+  /// The exact bounds of n stored depths (n a multiple of L, `d` aligned): one block's samples.
+  static std::pair<float, float> bounds_of(const float* d, int n) {
+    F vlo = F::load_aligned(d), vhi = vlo;
+    for (int i = L; i < n; i += L) {
+      const F z = F::load_aligned(d + i);
+      vlo = xsimd::min(vlo, z);
+      vhi = xsimd::max(vhi, z);
+    }
+    return reduce(vlo, vhi);
+  }
+
+  /// The smallest lane of lo and the largest of hi (xsimd 8.1 has no min/max reduction).
+  static std::pair<float, float> reduce(F lo, F hi) {
+    alignas(64) float ls[L], hs[L];
+    lo.store_aligned(ls);
+    hi.store_aligned(hs);
+    float l = ls[0], h = hs[0];
+    for (int i = 1; i < L; ++i) {
+      l = std::min(l, ls[i]);
+      h = std::max(h, hs[i]);
+    }
+    return {l, h};
+  }
+};
 
 }  // namespace mosaic::raster

@@ -6,14 +6,15 @@
 // triangle's bounding box inside the tile:
 //   1. trivial reject / accept of the block from the edge functions at its corners (int64,
 //      stepped from block to block along a row);
-//   2. hierarchical z: reject the block if the triangle is entirely behind it, or skip the
-//      per-sample depth test if it is entirely in front;
+//   2. hierarchical z (raster/hiz.hpp): reject the block if the triangle is entirely behind it,
+//      or skip the per-sample depth test if it is entirely in front;
 //   3. coverage: one 64-bit mask per sample, from SIMD int32 edge functions stepped from the
 //      block corner (exact: the corner value is int64, and a block whose values could leave
 //      int32 is evaluated in double lanes, exact for integers below 2^53);
 //   4. depth (float plane, the same operations as the reference) and the per-sample test;
-//   5. colour: once per pixel (MSAA) or per sample (SSAA), written where the test passed.
-// A draw with a shader or blending (generic, shade/shading.hpp) takes the same steps 1-4, keeps
+//   5. colour (shade/shade_simd.hpp): once per pixel (MSAA) or per sample (SSAA), written where
+//      the test passed.
+// A draw with a shader or blending (generic, shade/shade_simd.hpp) takes the same steps 1-4, keeps
 // each sample's passing lanes, and then colours the block in batches of kShaderBatch pixels:
 // one call of the shader's batch function per batch (not per pixel), then blending per sample.
 // The kernel a triangle gets is specialised on what its draw uses (raster/kernel_traits.hpp;
@@ -21,8 +22,9 @@
 // depth-only draw shades nothing and touches no colour memory, and at one sample its kernel is
 // specialised once more (the occluder pass). The tile clears and resolves only the buffers the
 // frame uses (TileFrame::keep_color, keep_depth).
-// At the end the tile's samples are resolved (box filter) while they are still in cache, and
-// its blocks' exact depth bounds go to the frame's hierarchical z when asked for.
+// At the end the tile's samples are resolved (box filter, resolve/resolve_simd.hpp) while they
+// are still in cache, and its blocks' exact depth bounds go to the frame's hierarchical z when
+// asked for.
 #pragma once
 
 #include <algorithm>
@@ -43,6 +45,8 @@
 #include "raster/kernel_traits.hpp"
 #include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
+#include "resolve/resolve_simd.hpp"
+#include "shade/shade_simd.hpp"
 #include "simd/mask.hpp"
 
 namespace mosaic::raster {
@@ -53,6 +57,7 @@ struct TileKernelImpl {
   using F = xsimd::batch<float, A>;
   using M = simd::Mask<A>;
   using D = xsimd::batch<double, A>;
+  using Sh = shade::ShadeSimd<A>;
   static constexpr int kDLanes = static_cast<int>(D::size);
   static constexpr int kDVectors =
       kBlockPixels / kDLanes;  ///< double vectors per sample of a block
@@ -79,38 +84,6 @@ struct TileKernelImpl {
     return I::load_aligned(r);
   }
 
-  static std::int32_t bits_of(Rgba8 c) { return std::bit_cast<std::int32_t>(c); }
-
-  // eval_plane() of front/setup.hpp, lane-wise, in the same order of operations.
-  static F plane(const front::Plane& p, float x0, float y0, F x, F y) {
-    const F v = F(p.base) + F(p.ddx) * (x - F(x0));
-    return v + F(p.ddy) * (y - F(y0));
-  }
-  // clamp_like_simd() of front/setup.hpp.
-  static F clamp(F v, float lo, float hi) {
-    const F m = xsimd::select(v > F(lo), v, F(lo));
-    return xsimd::select(m < F(hi), m, F(hi));
-  }
-  // to_unorm8() of front/setup.hpp: clamp, add one half, truncate.
-  static I unorm8(F v) { return xsimd::to_int(clamp(v, 0.0f, 255.0f) + F(0.5f)); }
-
-  // front::shade(), lane-wise: packed RGBA8 at positions (x, y).
-  // `planes` is the chunk's plane array (Context::planes); run() prefetches a triangle's planes
-  // one triangle ahead.
-  static I shade(const front::TriangleSetup& t, const front::Plane* planes, F x, F y) {
-    if (front::is_flat(t)) return I(bits_of(t.color));
-    return interpolate(t, planes + t.planes_base, x, y);
-  }
-  // The interpolated colour of a triangle whose q and colour·q planes are p[0 .. kColorPlanes).
-  static I interpolate(const front::TriangleSetup& t, const front::Plane* p, F x, F y) {
-    const F q = plane(p[0], t.x0, t.y0, x, y);
-    const I r = unorm8(plane(p[1], t.x0, t.y0, x, y) / q);
-    const I g = unorm8(plane(p[2], t.x0, t.y0, x, y) / q);
-    const I b = unorm8(plane(p[3], t.x0, t.y0, x, y) / q);
-    const I a = unorm8(plane(p[4], t.x0, t.y0, x, y) / q);
-    return r | (g << 8) | (b << 16) | (a << 24);
-  }
-
   struct Context {
     const TileFrame& f;
     const TileRect& tile;
@@ -125,9 +98,10 @@ struct TileKernelImpl {
     /// some block's bounds narrowed and the loose bounds failed to reject a triangle.
     float tile_zmin = 0, tile_zmax = 0;
     bool tile_z_loose = false;
-    I col[kVectors], row[kVectors];       ///< each lane's pixel column and row in its block
-    F colf[kVectors], rowf[kVectors];     ///< the same as floats
-    F ox[kMaxSamples], oy[kMaxSamples];   ///< sample offset from the pixel corner, in pixels
+    I col[kVectors], row[kVectors];  ///< each lane's pixel column and row in its block
+    /// The same as floats, the sample offsets from the pixel corner, and the plane array of the
+    /// bin run being drawn: what shading needs of the block's lanes.
+    typename Sh::Lanes ln;
     /// Per (sample s, vector v), at index s * kVectors + v, the order of a block's sample memory:
     /// the lanes' sample positions from the block's corner, col + ox[s] and row + oy[s]. Every
     /// term and sum is exact in float (multiples of 1/16 below 2^4), so a block's sample position
@@ -135,7 +109,6 @@ struct TileKernelImpl {
     /// then needs neither s nor v, only the vector's index k.
     F sx[kMaxSamples * kVectors], sy[kMaxSamples * kVectors];
     std::int64_t soff[2][kMaxSamples];    ///< sample offset from the pixel corner, in 16.8
-    const front::Plane* planes = nullptr;  ///< plane array of the bin run being drawn
   };
 
   using TriangleFn = void (*)(Context&, const front::TriangleSetup&);
@@ -193,17 +166,6 @@ struct TileKernelImpl {
     return kLaneBits;
   }
 
-  // Hierarchical z for one block: -1 rejects the block (no sample can pass), 0 needs the
-  // per-sample test, 1 accepts every covered sample without it.
-  template <DepthTest kTest>
-  static int hiz(float tlo, float thi, float bz_min, float bz_max) {
-    if constexpr (kTest == DepthTest::kLess) return tlo >= bz_max ? -1 : (thi < bz_min ? 1 : 0);
-    if constexpr (kTest == DepthTest::kLessEqual) return tlo > bz_max ? -1 : (thi <= bz_min ? 1 : 0);
-    if constexpr (kTest == DepthTest::kGreater) return thi <= bz_min ? -1 : (tlo > bz_max ? 1 : 0);
-    if constexpr (kTest == DepthTest::kGreaterEqual) return thi < bz_min ? -1 : (tlo >= bz_max ? 1 : 0);
-    return 1;
-  }
-
   template <class K>
   static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
     constexpr DepthTest kTest = K::kTest;
@@ -219,7 +181,7 @@ struct TileKernelImpl {
     // for every vector it shades (it did: +2.7% instructions in this kernel on `default --ssaa`).
     std::array<front::Plane, front::kColorPlanes> color_planes;
     if constexpr (kColor && !kFlat && !kGeneric)
-      std::copy_n(cx.planes + t.planes_base, front::kColorPlanes, color_planes.begin());
+      std::copy_n(cx.ln.planes + t.planes_base, front::kColorPlanes, color_planes.begin());
 
     const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
     const int y_lo = std::max(t.by0, tile.y0), y_hi = std::min(t.by1, tile.y0 + tile.height);
@@ -238,10 +200,10 @@ struct TileKernelImpl {
     const bool small_box = bxe - bxb <= 2 && bye - byb <= 2;
     if constexpr (kTest != DepthTest::kAlways) {
       std::tie(rlo, rhi) = zrange.over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
-      bool hidden = hiz<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
+      bool hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
       if (!hidden && cx.tile_z_loose) {
         refresh_tile_z(cx);
-        hidden = hiz<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
+        hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
       }
       if (hidden) {
         for (int by = byb; by < bye; ++by)
@@ -283,7 +245,7 @@ struct TileKernelImpl {
     bool doff_built = false;
     const float tlo = t.z_min, thi = t.z_max;
     const F x0(t.x0), y0(t.y0), zb(t.z.base), zdx(t.z.ddx), zdy(t.z.ddy), zlo(tlo), zhi(thi);
-    [[maybe_unused]] const I flat_color(bits_of(t.color));
+    [[maybe_unused]] const I flat_color(Sh::bits_of(t.color));
 
     for (int by = byb; by < bye; ++by) {
       const int py0 = tile.y0 + by * kBlockSize;
@@ -339,7 +301,7 @@ struct TileKernelImpl {
         // 2. Hierarchical z, with the triangle's depth range over this block (its box's, if small).
         const auto [blo, bhi] = small_box ? std::pair<float, float>{rlo, rhi}
                                           : zrange.over(px0, py0, kBlockSize, kBlockSize, tlo, thi);
-        const int hz = hiz<kTest>(blo, bhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
+        const int hz = hiz_classify<kTest>(blo, bhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
         if (hz < 0) {
           ++cx.st.blocks_hiz_rejected;
           continue;
@@ -429,13 +391,13 @@ struct TileKernelImpl {
               if constexpr (kFlat) {
                 color = flat_color;
               } else if constexpr (kSsaa) {
-                color = interpolate(t, color_planes.data(), fx, fy);
+                color = Sh::interpolate(t, color_planes.data(), fx, fy);
               } else {
                 const std::size_t v = k % kVectors;
                 if (!(shaded & (1u << v))) {
                   pixel_color[v] =
-                      interpolate(t, color_planes.data(), fx_blk + cx.colf[v] + F(0.5f),
-                                  fy_row + cx.rowf[v] + F(0.5f));
+                      Sh::interpolate(t, color_planes.data(), fx_blk + cx.ln.colf[v] + F(0.5f),
+                                  fy_row + cx.ln.rowf[v] + F(0.5f));
                   shaded |= 1u << v;
                 }
                 color = pixel_color[v];
@@ -462,22 +424,23 @@ struct TileKernelImpl {
           float& zmn = cx.sc.zmin[blk];
           float& zmx = cx.sc.zmax[blk];
           const float old_lo = zmn, old_hi = zmx;
-          if constexpr (kTest == DepthTest::kLess || kTest == DepthTest::kLessEqual) {
-            zmn = all_written ? blo : std::min(zmn, blo);
-            if (all_covered) zmx = std::min(zmx, bhi);  // kept depths were nearer: below bhi
-          } else if constexpr (kTest == DepthTest::kGreater || kTest == DepthTest::kGreaterEqual) {
-            zmx = all_written ? bhi : std::max(zmx, bhi);
-            if (all_covered) zmn = std::max(zmn, blo);
-          } else {
-            zmn = all_written ? blo : std::min(zmn, blo);
-            zmx = all_written ? bhi : std::max(zmx, bhi);
-          }
+          update_block_bounds<kTest>(zmn, zmx, blo, bhi, all_covered, all_written);
           cx.tile_zmin = std::min(cx.tile_zmin, zmn);
           cx.tile_zmax = std::max(cx.tile_zmax, zmx);
           cx.tile_z_loose |= zmn > old_lo || zmx < old_hi;
         }
       }
     }
+  }
+
+  // Colours a block of a shaded or blending draw where its samples passed (shade/shade_simd.hpp).
+  static void color_generic(Context& cx, const front::TriangleSetup& t, int blk, int px0, int py0,
+                            const std::uint64_t* passed) {
+    const TileFrame& f = cx.f;
+    const int S = f.samples;
+    std::uint32_t* cblk = cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+    Sh::color_block(cx.ln, t, f.shading[t.draw], f.states[t.draw].blend == BlendMode::kSourceOver,
+                    f.ssaa, S, cblk, px0, py0, passed);
   }
 
   // Coverage of one sample of a block from the edge values b0..b2 at that sample of its first
@@ -536,135 +499,13 @@ struct TileKernelImpl {
     }
   }
 
-  // --- Generic draws: shaders and blending ---
-
-  /// Vectors per shader batch, and shader batches per block.
-  static constexpr int kBatchVectors = kShaderBatch / L;
-  static constexpr int kBatches = kBlockPixels / kShaderBatch;
-  static_assert(kShaderBatch % L == 0 && kBlockPixels % kShaderBatch == 0);
-  static constexpr std::uint32_t kBatchBits = (1u << kShaderBatch) - 1;
-
-  // shade::blend_over(), lane-wise on packed RGBA8 (the same integer operations).
-  static I blend_over(I src, I dst) {
-    const I byte(0xff), c128(128), c255(255);
-    const I a = (src >> 24) & byte, ia = c255 - a;
-    const auto div255 = [&](I x) {
-      const I u = x + c128;
-      return (u + (u >> 8)) >> 8;
-    };
-    const I r = div255((src & byte) * a + (dst & byte) * ia);
-    const I g = div255(((src >> 8) & byte) * a + ((dst >> 8) & byte) * ia);
-    const I b = div255(((src >> 16) & byte) * a + ((dst >> 16) & byte) * ia);
-    const I al = div255(c255 * a + ((dst >> 24) & byte) * ia);
-    return r | (g << 8) | (b << 16) | (al << 24);
-  }
-
-  // The colours of batch `g` of a block (pixels 16g .. 16g + 15) at offsets (ox, oy) from the
-  // pixel corners: the shader's batch function once, with lanes outside `active` zeroed, or the
-  // setup's colour (shade::shade_one() lane-wise).
-  static void batch_colors(Context& cx, const front::TriangleSetup& t, const shade::DrawShading& sh,
-                           int g, F fx_blk, F fy_blk, F ox, F oy, std::uint32_t active,
-                           I (&out)[kBatchVectors]) {
-    if (!sh.function) {
-      for (int j = 0; j < kBatchVectors; ++j) {
-        const int v = g * kBatchVectors + j;
-        out[j] = shade(t, cx.planes, (fx_blk + cx.colf[v]) + ox, (fy_blk + cx.rowf[v]) + oy);
-      }
-      return;
-    }
-    ShaderInput in;  // filled up to varying_count: the rest is never read
-    ShaderOutput res;
-    for (int j = 0; j < kBatchVectors; ++j) {
-      const int v = g * kBatchVectors + j;
-      const F x = (fx_blk + cx.colf[v]) + ox, y = (fy_blk + cx.rowf[v]) + oy;
-      x.store_aligned(in.x + j * L);
-      y.store_aligned(in.y + j * L);
-      if (sh.varyings > 0) {
-        const auto lanes = M::floats((active >> (j * L)) & kLaneBits);
-        const front::Plane* p = cx.planes + t.planes_base;  // q, then the varyings
-        const F q = plane(p[0], t.x0, t.y0, x, y);
-        for (int k = 0; k < sh.varyings; ++k) {
-          const F val = plane(p[1 + k], t.x0, t.y0, x, y) / q;
-          xsimd::select(lanes, val, F(0.0f)).store_aligned(in.varying[k] + j * L);
-        }
-      }
-    }
-    in.active = active;
-    in.varying_count = sh.varyings;
-    sh.function(sh.state, in, res);
-    for (int j = 0; j < kBatchVectors; ++j) {
-      const F c255(255.0f);
-      const I r = unorm8(F::load_aligned(res.r + j * L) * c255);
-      const I gg = unorm8(F::load_aligned(res.g + j * L) * c255);
-      const I b = unorm8(F::load_aligned(res.b + j * L) * c255);
-      const I a = unorm8(F::load_aligned(res.a + j * L) * c255);
-      out[j] = r | (gg << 8) | (b << 16) | (a << 24);
-    }
-  }
-
-  // Colours a block of a generic draw where its samples passed: per pixel at the pixel centre
-  // (MSAA; only pixels some sample of which passed are active) or per sample (SSAA), blended
-  // over each sample's colour when the draw blends.
-  static void color_generic(Context& cx, const front::TriangleSetup& t, int blk, int px0, int py0,
-                            const std::uint64_t* passed) {
-    const TileFrame& f = cx.f;
-    const int S = f.samples;
-    const shade::DrawShading& sh = f.shading[t.draw];
-    const bool blend = f.states[t.draw].blend == BlendMode::kSourceOver;
-    std::uint32_t* cblk = cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
-    const F fx_blk(static_cast<float>(px0)), fy_blk(static_cast<float>(py0));
-    for (int g = 0; g < kBatches; ++g) {
-      std::uint32_t any = 0;
-      for (int s = 0; s < S; ++s)
-        any |= static_cast<std::uint32_t>(passed[s] >> (g * kShaderBatch)) & kBatchBits;
-      if (!any) continue;
-      I pixel[kBatchVectors];
-      if (!f.ssaa) batch_colors(cx, t, sh, g, fx_blk, fy_blk, F(0.5f), F(0.5f), any, pixel);
-      for (int s = 0; s < S; ++s) {
-        const std::uint32_t bits =
-            static_cast<std::uint32_t>(passed[s] >> (g * kShaderBatch)) & kBatchBits;
-        if (!bits) continue;
-        I sample[kBatchVectors];
-        if (f.ssaa) batch_colors(cx, t, sh, g, fx_blk, fy_blk, cx.ox[s], cx.oy[s], bits, sample);
-        const I* color = f.ssaa ? sample : pixel;
-        for (int j = 0; j < kBatchVectors; ++j) {
-          const std::uint32_t lanes = (bits >> (j * L)) & kLaneBits;
-          if (!lanes) continue;
-          std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + s * kBlockPixels +
-                                                             (g * kBatchVectors + j) * L);
-          const I dst = I::load_aligned(cp);
-          const I c = blend ? blend_over(color[j], dst) : color[j];
-          xsimd::select(M::ints(lanes), c, dst).store_aligned(cp);
-        }
-      }
-    }
-  }
-
   // The tile's depth bounds: the union of its blocks' (blocks outside the image hold the neutral
   // bounds +inf / -inf, see run()).
   static void refresh_tile_z(Context& cx) {
-    const int vec = cx.blocks / L * L;
-    F lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-    for (int i = 0; i < vec; i += L) {
-      lo = xsimd::min(lo, F::load_aligned(cx.sc.zmin + i));
-      hi = xsimd::max(hi, F::load_aligned(cx.sc.zmax + i));
-    }
-    alignas(64) float ls[L], hs[L];  // xsimd 8.1 has no min/max reduction
-    lo.store_aligned(ls);
-    hi.store_aligned(hs);
-    float l = ls[0], h = hs[0];
-    for (int i = 1; i < L; ++i) {
-      l = std::min(l, ls[i]);
-      h = std::max(h, hs[i]);
-    }
-    for (int i = vec; i < cx.blocks; ++i) {
-      l = std::min(l, cx.sc.zmin[i]);
-      h = std::max(h, cx.sc.zmax[i]);
-    }
-    cx.tile_zmin = l;
-    cx.tile_zmax = h;
+    std::tie(cx.tile_zmin, cx.tile_zmax) = HizSimd<A>::union_of(cx.sc.zmin, cx.sc.zmax, cx.blocks);
     cx.tile_z_loose = false;
   }
+
 
   // Coverage of one sample of a block whose edge values could leave int32 (edges longer than
   // about 2048 px), in double lanes: every value is an integer below 2^50 in magnitude (the edge
@@ -740,21 +581,7 @@ struct TileKernelImpl {
         const float* d = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
         const std::uint64_t valid = cx.valid[blk];
         if (f.keep_depth && valid == ~std::uint64_t{0}) {
-          F vlo = F::load_aligned(d), vhi = vlo;
-          for (int i = L; i < S * kBlockPixels; i += L) {
-            const F z = F::load_aligned(d + i);
-            vlo = xsimd::min(vlo, z);
-            vhi = xsimd::max(vhi, z);
-          }
-          alignas(64) float ls[L], hs[L];  // xsimd 8.1 has no min/max reduction
-          vlo.store_aligned(ls);
-          vhi.store_aligned(hs);
-          lo = ls[0];
-          hi = hs[0];
-          for (int l = 1; l < L; ++l) {
-            lo = std::min(lo, ls[l]);
-            hi = std::max(hi, hs[l]);
-          }
+          std::tie(lo, hi) = HizSimd<A>::bounds_of(d, S * kBlockPixels);
         } else if (f.keep_depth) {  // a block cut by the image's right or bottom edge
           lo = std::numeric_limits<float>::infinity();
           hi = -lo;
@@ -771,57 +598,11 @@ struct TileKernelImpl {
     }
   }
 
-  // The box filter of every pixel, into the image.
+  // The box filter of every pixel, into the image (resolve/resolve_simd.hpp).
   static void resolve_color(Context& cx) {
     const TileFrame& f = cx.f;
-    const TileRect& tile = cx.tile;
-    const int S = f.samples;
-    const int shift = std::countr_zero(static_cast<unsigned>(S));
-    // Two channels per 32-bit lane, one in each 16-bit half (r and b, then g and a): a half's sum
-    // is at most 16 * 255 + 8 < 2^16, so it never carries into the other, and after the shift
-    // the mask drops what the upper half shifted into the lower.
-    const I round((S / 2) * 0x00010001), even(0x00ff00ff);
-    for (int by = 0; by * kBlockSize < tile.height; ++by) {
-      for (int bx = 0; bx * kBlockSize < tile.width; ++bx) {
-        const int blk = by * cx.side + bx;
-        const std::int32_t* cblk = reinterpret_cast<const std::int32_t*>(
-            cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels);
-        for (int v = 0; v < kVectors; ++v) {
-          I out;
-          if (S == 1) {
-            out = I::load_aligned(cblk + v * L);
-          } else {
-            I rb(0), ga(0);
-            for (int s = 0; s < S; ++s) {
-              const I c = I::load_aligned(cblk + s * kBlockPixels + v * L);
-              rb += c & even;
-              ga += (c >> 8) & even;
-            }
-            // resolve::box_mean(): (sum + S/2) / S, with S a power of two.
-            rb = ((rb + round) >> shift) & even;
-            ga = ((ga + round) >> shift) & even;
-            out = rb | (ga << 8);
-          }
-          // The lanes' pixels are whole rows of the block (half a row with four lanes): copied
-          // row piece by row piece, not pixel by pixel.
-          constexpr int kPiece = L < kBlockSize ? L : kBlockSize;
-          alignas(64) std::int32_t lanes[L];
-          out.store_aligned(lanes);
-          for (int l = 0; l < L; l += kPiece) {
-            const int p = v * L + l;
-            std::memcpy(cx.sc.resolved + (by * kBlockSize + p / kBlockSize) * kMaxTileSize +
-                            bx * kBlockSize + p % kBlockSize,
-                        lanes + l, sizeof(std::int32_t) * kPiece);
-          }
-        }
-      }
-    }
-    for (int y = 0; y < tile.height; ++y) {
-      // Rgba8 is four bytes in r, g, b, a order, the little-endian layout of the packed words.
-      std::memcpy(static_cast<void*>(f.image + static_cast<std::size_t>(tile.y0 + y) * f.width +
-                                     tile.x0),
-                  cx.sc.resolved + y * kMaxTileSize, sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
-    }
+    resolve::ResolveSimd<A>::box_tile(cx.sc.color.get(), cx.side, f.samples, cx.tile, cx.sc.resolved,
+                                      f.image, f.width);
   }
 
   static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,
@@ -842,33 +623,29 @@ struct TileKernelImpl {
                {},
                {},
                {},
-               {},
-               {},
-               {},
-               {},
-               nullptr};
+               {}};
     for (int v = 0; v < kVectors; ++v) {
       cx.col[v] = lane_col(v);
       cx.row[v] = lane_row(v);
-      cx.colf[v] = xsimd::to_float(cx.col[v]);
-      cx.rowf[v] = xsimd::to_float(cx.row[v]);
+      cx.ln.colf[v] = xsimd::to_float(cx.col[v]);
+      cx.ln.rowf[v] = xsimd::to_float(cx.row[v]);
     }
     for (int s = 0; s < f.samples; ++s) {
       const SampleOffset o = cx.pattern[s];
       // The reference's sample position is px + 0.5 + dx / 16; every term and sum is exact.
-      cx.ox[s] = F(0.5f + static_cast<float>(o.dx) * (1.0f / 16.0f));
-      cx.oy[s] = F(0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f));
+      cx.ln.ox[s] = F(0.5f + static_cast<float>(o.dx) * (1.0f / 16.0f));
+      cx.ln.oy[s] = F(0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f));
       cx.soff[0][s] = kHalf + o.dx * kSampleOffsetScale;
       cx.soff[1][s] = kHalf + o.dy * kSampleOffsetScale;
       for (int v = 0; v < kVectors; ++v) {
-        cx.sx[s * kVectors + v] = cx.colf[v] + cx.ox[s];
-        cx.sy[s * kVectors + v] = cx.rowf[v] + cx.oy[s];
+        cx.sx[s * kVectors + v] = cx.ln.colf[v] + cx.ln.ox[s];
+        cx.sy[s * kVectors + v] = cx.ln.rowf[v] + cx.ln.oy[s];
       }
     }
     // Clear the buffers the frame uses, and the tile's hierarchical z.
     const std::size_t n = static_cast<std::size_t>(cx.blocks) * f.samples * kBlockPixels;
     if (f.keep_color) {
-      const I cc(bits_of(f.clear_color));
+      const I cc(Sh::bits_of(f.clear_color));
       for (std::size_t i = 0; i < n; i += L)
         cc.store_aligned(reinterpret_cast<std::int32_t*>(sc.color.get() + i));
     }
@@ -891,7 +668,7 @@ struct TileKernelImpl {
     }
     for (const BinRun& run : bin) {
       const std::span<const std::uint32_t> idx = run.indices;
-      cx.planes = run.planes;
+      cx.ln.planes = run.planes;
       const bool mixed = run.draw == BinRun::kMixedDraws;
       DrawKernels kernels = mixed ? DrawKernels{} : pick(f, run.draw);
       for (std::size_t k = 0; k < idx.size(); ++k) {

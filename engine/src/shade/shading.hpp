@@ -1,7 +1,7 @@
 // shade/shading.hpp — what the rasterizers need to colour a sample of a draw that has a shader or
 // blending: the draw's shader in plain form, perspective-correct varyings, and source-over
 // blending in 8 bits. Shared by the reference (scalar, here) and the tile kernels (lane-wise, in
-// raster/tile_kernel.hpp, in the same order of operations).
+// shade/shade_simd.hpp, in the same order of operations).
 //
 // Takes: a triangle's setup and its draw. Gives: the colour of one pixel or sample.
 #pragma once
