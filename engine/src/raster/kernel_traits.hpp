@@ -17,7 +17,7 @@ enum class ColorMode {
 };
 
 /// One specialisation of the tile kernel's triangle loop.
-template <DepthTest Test, bool Write, ColorMode Color, bool Ssaa, bool OneSample>
+template <DepthTest Test, bool Write, ColorMode Color, bool Ssaa, int Samples>
 struct KernelTraits {
   static constexpr DepthTest kTest = Test;
   static constexpr bool kWrite = Write;  ///< the depth write
@@ -25,8 +25,10 @@ struct KernelTraits {
   /// Interpolated colour per sample, not per pixel (only kInterpolated depends on it: a flat
   /// colour is the same either way, and the generic path decides when it colours).
   static constexpr bool kSsaa = Ssaa;
-  /// One sample per pixel, at its centre: the depth-only occluder pass is specialised on it.
-  static constexpr bool kOneSample = OneSample;
+  /// Samples per pixel, or 0 for the frame's (TileFrame::samples): a known count unrolls the
+  /// per-sample loops. One sample is at the pixel centre.
+  static constexpr int kSamples = Samples;
+  static constexpr bool kOneSample = Samples == 1;
 };
 
 }  // namespace mosaic::raster

@@ -123,38 +123,54 @@ struct TileKernelImpl {
     const DrawState& ds = f.states[draw];
     if (!ds.color_write) {
       // A depth-only draw shades nothing; at one sample (the occluder pass) it is specialised.
-      const TriangleFn k = f.samples == 1 ? by_depth<ColorMode::kNone, false, true>(ds)
-                                          : by_depth<ColorMode::kNone, false, false>(ds);
+      const TriangleFn k = f.samples == 1 ? by_depth<ColorMode::kNone, false, 1>(ds)
+                                          : by_depth<ColorMode::kNone, false, 0>(ds);
       return {k, k};
     }
     if (!f.shading.empty() && f.shading[draw].generic) {
-      const TriangleFn k = by_depth<ColorMode::kGeneric, false, false>(ds);
+      const TriangleFn k = by_depth<ColorMode::kGeneric, false, 0>(ds);
       return {k, k};
     }
-    const TriangleFn flat = by_depth<ColorMode::kFlat, false, false>(ds);
-    if (f.ssaa) return {flat, by_depth<ColorMode::kInterpolated, true, false>(ds)};
-    return {flat, by_depth<ColorMode::kInterpolated, false, false>(ds)};
+    const TriangleFn flat = by_samples<ColorMode::kFlat>(ds, f.samples);
+    if (f.ssaa) return {flat, by_depth<ColorMode::kInterpolated, true, 0>(ds)};
+    return {flat, by_samples<ColorMode::kInterpolated>(ds, f.samples)};
   }
-  template <ColorMode kColor, bool kSsaa, bool kOneSample>
+  // The common kernels know their sample count, so that the per-sample loops unroll
+  // (random-small 4x: 6 % fewer kernel instructions, callgrind AVX2).
+  template <ColorMode kColor>
+  static TriangleFn by_samples(const DrawState& ds, int samples) {
+    switch (samples) {
+      case 1:
+        return by_depth<kColor, false, 1>(ds);
+      case 4:
+        return by_depth<kColor, false, 4>(ds);
+      case 8:
+        return by_depth<kColor, false, 8>(ds);
+      default:
+        break;
+    }
+    return by_depth<kColor, false, 16>(ds);
+  }
+  template <ColorMode kColor, bool kSsaa, int kSamples>
   static TriangleFn by_depth(const DrawState& ds) {
     switch (ds.depth_test) {
       case DepthTest::kLess:
-        return with_write<DepthTest::kLess, kColor, kSsaa, kOneSample>(ds.depth_write);
+        return with_write<DepthTest::kLess, kColor, kSsaa, kSamples>(ds.depth_write);
       case DepthTest::kLessEqual:
-        return with_write<DepthTest::kLessEqual, kColor, kSsaa, kOneSample>(ds.depth_write);
+        return with_write<DepthTest::kLessEqual, kColor, kSsaa, kSamples>(ds.depth_write);
       case DepthTest::kGreater:
-        return with_write<DepthTest::kGreater, kColor, kSsaa, kOneSample>(ds.depth_write);
+        return with_write<DepthTest::kGreater, kColor, kSsaa, kSamples>(ds.depth_write);
       case DepthTest::kGreaterEqual:
-        return with_write<DepthTest::kGreaterEqual, kColor, kSsaa, kOneSample>(ds.depth_write);
+        return with_write<DepthTest::kGreaterEqual, kColor, kSsaa, kSamples>(ds.depth_write);
       case DepthTest::kAlways:
         break;
     }
-    return with_write<DepthTest::kAlways, kColor, kSsaa, kOneSample>(ds.depth_write);
+    return with_write<DepthTest::kAlways, kColor, kSsaa, kSamples>(ds.depth_write);
   }
-  template <DepthTest kTest, ColorMode kColor, bool kSsaa, bool kOneSample>
+  template <DepthTest kTest, ColorMode kColor, bool kSsaa, int kSamples>
   static TriangleFn with_write(bool write) {
-    if (write) return &triangle_impl<KernelTraits<kTest, true, kColor, kSsaa, kOneSample>>;
-    return &triangle_impl<KernelTraits<kTest, false, kColor, kSsaa, kOneSample>>;
+    if (write) return &triangle_impl<KernelTraits<kTest, true, kColor, kSsaa, kSamples>>;
+    return &triangle_impl<KernelTraits<kTest, false, kColor, kSsaa, kSamples>>;
   }
 
   template <DepthTest kTest>
@@ -175,7 +191,7 @@ struct TileKernelImpl {
     constexpr bool kGeneric = K::kColor == ColorMode::kGeneric;
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
-    const int S = kS1 ? 1 : f.samples;
+    const int S = K::kSamples ? K::kSamples : f.samples;
     // An interpolated triangle's colour planes, copied out of the chunk's array once: the
     // compiler then knows no depth or colour store overwrites them, and need not reload them
     // for every vector it shades (it did: +2.7% instructions in this kernel on `default --ssaa`).
