@@ -2,7 +2,8 @@
 //
 // Takes: Google Benchmark's flags, and --mosaic_smoke (every case runs one iteration: the ctest
 // smoke run). Gives: wall-clock times (manual time, one Renderer::render or one stage per
-// iteration) of these cases, every built-in scene at 1920×1080:
+// iteration) of these cases, every built-in scene at 1920×1080 (the stage cases all but the
+// dense-mesh knot scenes):
 //   frame/<scene>/<S>x/t<T>          whole frames, clear to resolved image, S = 1 and 4 samples,
 //                                    T = 1 and 2 threads; per-stage times from FrameStats
 //   stage/setup/<scene>/t<T>         the front end alone (transform, clip, cull, snap, set up)
@@ -64,6 +65,12 @@ constexpr int kStageSamples = 4;
 /// ~90 ms, random-small ~350 ms, star ~90 ms, fan ~60 ms); slivers takes ~4.6 s and
 /// random-large longer, so they are left out of the speed-up table.
 const char* const kIsaScenes[] = {"default", "random-small", "star", "fan"};
+/// The dense-mesh scenes (1 M triangles, 50–200 ms a frame): each repetition times a fixed
+/// kMeshFrameIterations frames instead of searching for kFrameMinTime (which ran 2–5 frames
+/// after a probe), and they have no isolated stage cases (their frames' FrameStats split the
+/// stages), so that they add about 40 s to a REPS=7 run.
+const char* const kMeshScenes[] = {"knot", "knot-100px", "knot-30px"};
+constexpr int kMeshFrameIterations = 2;
 /// Triangles per front-end chunk in the isolated stages; must match kChunkTriangles in
 /// engine/src/frame.cpp so that the isolated stages do the same work as a frame.
 constexpr std::uint32_t kChunkTriangles = 2048;
@@ -255,8 +262,8 @@ struct StageRig {
         chunks[i].tris.clear();
         chunks[i].planes.clear();
         mosaic::front::FrontStats fs;
-        front_end(draws[j.draw], j.draw, j.begin, j.end, scene.width, scene.height,
-                  chunks[i].tris, fs, &chunks[i].planes);
+        front_end(draws[j.draw], j.draw, j.begin, j.end, scene.width, scene.height, chunks[i].tris,
+                  fs, &chunks[i].planes);
       });
     });
   }
@@ -384,11 +391,18 @@ void bench_resolve(benchmark::State& state, int samples, int threads) {
   }
 }
 
-/// Common settings: wall-clock time as measured around each call, in milliseconds.
-benchmark::internal::Benchmark* configure(benchmark::internal::Benchmark* b, double min_time) {
+/// Common settings: wall-clock time as measured around each call, in milliseconds. `iterations`
+/// > 0 fixes the frames per repetition instead of min_time.
+benchmark::internal::Benchmark* configure(benchmark::internal::Benchmark* b, double min_time,
+                                          int iterations = 0) {
   b->UseManualTime()->Unit(benchmark::kMillisecond);
   if (g_smoke) return b->Iterations(1);
+  if (iterations > 0) return b->Iterations(iterations);
   return b->MinTime(min_time);
+}
+
+bool is_mesh_scene(const std::string& name) {
+  return std::find(std::begin(kMeshScenes), std::end(kMeshScenes), name) != std::end(kMeshScenes);
 }
 
 // Built by appending: GCC 12 gives a false -Wrestrict error (-O3) on "t" + std::to_string(n).
@@ -408,8 +422,9 @@ void register_all() {
         configure(benchmark::RegisterBenchmark(
                       ("frame/" + s + "/" + samples_tag(S) + "/" + threads_tag(T)).c_str(),
                       [=](benchmark::State& st) { bench_frame(st, s, S, T, Isa::kAuto); }),
-                  kFrameMinTime);
+                  kFrameMinTime, is_mesh_scene(s) ? kMeshFrameIterations : 0);
   for (const std::string& s : scenes) {
+    if (is_mesh_scene(s)) continue;
     for (int T : kThreadCounts) {
       configure(benchmark::RegisterBenchmark(("stage/setup/" + s + "/" + threads_tag(T)).c_str(),
                                              [=](benchmark::State& st) { bench_setup(st, s, T); }),

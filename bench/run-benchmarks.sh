@@ -6,7 +6,8 @@
 # default 7: the tables show medians), FILTER (a --benchmark_filter regex, default all) and
 # OUT (the JSON file, default <build>/bench/bench-results.json).
 # Gives: Google Benchmark's console table on stderr, the JSON in OUT, and the markdown tables on
-# stdout. About 3 minutes on an idle 2-core machine with REPS=7.
+# stdout. About 3 minutes on an idle 2-core machine with REPS=7, plus about 40 s for the three
+# 1 M-triangle knot scenes.
 # The repetitions of all cases are interleaved in random order, so that a burst of load from
 # other work on the machine spreads over many cases instead of spoiling every repetition of one.
 set -eu

@@ -306,6 +306,9 @@ int main(int argc, char** argv) {
         fill_rule == "gl" ? mosaic::FillRule::kOpenGL : mosaic::FillRule::kD3D;
 
     // Built-in scenes go through .tris and back: both renderers then draw exactly the file.
+    // Clip-space ones (default, the knots) are written unsnapped: llvmpipe rounds snap ties to
+    // even and builds depth and colour planes from unsnapped positions, so sub-pixel triangles
+    // can differ (README, Known limits).
     std::vector<SceneEntry> scenes;
     std::vector<std::string> names = scene_list == "all"    ? mosaic::builtin_scene_names()
                                      : scene_list == "none" ? std::vector<std::string>{}

@@ -64,7 +64,11 @@ struct Scene {
   }
 };
 
-/// Names of the built-in scenes: default, random-small, random-large, slivers, star, fan.
+/// Names of the built-in scenes: default, random-small, random-large, slivers, star, fan, knot,
+/// knot-100px, knot-30px. The knot scenes are one closed, indexed torus knot of 1,048,576
+/// triangles in perspective: `knot` fills 90 % of the target's width or height (whichever binds
+/// first), `knot-100px` and `knot-30px` are that many pixels wide on any target size; all three
+/// are centred.
 std::vector<std::string> builtin_scene_names();
 
 /// A built-in scene made for a width × height target; deterministic for a given name, size and

@@ -1,21 +1,24 @@
-// scenes/builtin.cpp — the built-in scenes: a showcase, stress cases, and test patterns.
+// scenes/builtin.cpp — the built-in scenes: a showcase, stress cases, test patterns, and a dense
+// closed mesh (a torus knot of 1 M triangles) at three sizes.
 //
 // Takes: a scene name, a target size and a seed. Gives: a Scene whose bits depend only on those
-// three (every platform, every standard library): randomness comes from splitmix64 (scenes/rng.hpp), and
-// angles from a Taylor series that uses only IEEE + and * (std::sin's last bit depends on the
-// libm; the build disables FMA contraction). Screen-space vertices are snapped to 1/256 px, as
-// the renderer snaps them, so the stated areas and lengths hold exactly for what is drawn and a
-// .tris of the scene reproduces it bit for bit.
+// three (every platform, every standard library): randomness comes from splitmix64
+// (scenes/rng.hpp), and angles from a Taylor series that uses only IEEE + and * (std::sin's last
+// bit depends on the libm; the build disables FMA contraction). Screen-space vertices are snapped
+// to 1/256 px, as the renderer snaps them, so the stated areas and lengths hold exactly for what is
+// drawn and a .tris of the scene reproduces it bit for bit.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "front/fixed_point.hpp"
@@ -465,9 +468,124 @@ Scene showcase(Scene scene) {
   return scene;
 }
 
+// ---- the torus knot: a dense closed mesh ----
+
+/// The (p, q) torus knot of the `knot` scenes: p turns about the y axis, q through the hole.
+constexpr int kKnotP = 2, kKnotQ = 3;
+/// Segments along the curve (U) and around the tube (V): 2·U·V = 1,048,576 triangles on U·V =
+/// 524,288 shared vertices.
+constexpr int kKnotU = 2048, kKnotV = 256;
+/// Tube radius against a curve radius of 2 ± 1 (thick, yet the strands never touch), and the
+/// radial noise of every vertex as a fraction of it (about a fifth of the shorter edge).
+constexpr double kKnotTube = 0.4, kKnotNoise = 0.005;
+/// Radius of a sphere about the origin that holds the whole mesh: |curve| <= 3.
+constexpr double kKnotBound = 3.0 + kKnotTube * (1.0 + kKnotNoise);
+/// Seed of the noise: fixed, so the mesh does not depend on the scene seed.
+constexpr std::uint64_t kKnotSeed = 0x6b6e6f74;  // "knot"
+/// The camera looks down at the knot from this angle above its plane (radians, 50°).
+constexpr double kKnotElevation = 50.0 * kPi / 180.0;
+/// `knot` fills this fraction of the target's width or height, whichever binds first.
+constexpr double kKnotFill = 0.9;
+/// The camera is never nearer than this many bounding radii: near plane well clear of the mesh.
+constexpr double kKnotMinDistance = 3.0;
+/// Vertical focal length that sets the camera distance of the px-sized scenes (58° field).
+constexpr double kKnotFocal = 1.8;
+
+/// Calls f(position, normal) for every vertex of the knot in world space, ring by ring along
+/// the curve (vertex i·V + j is ring i, side j). The noise restarts from kKnotSeed on every
+/// call, so two calls give the same vertices: the scene walks them twice instead of storing them.
+template <class F>
+void for_each_knot_vertex(const std::vector<glm::dvec2>& around, F&& f) {
+  Rng rng(kKnotSeed);
+  for (int i = 0; i < kKnotU; ++i) {
+    const double t = kTwoPi * i / kKnotU;
+    const glm::dvec2 cp = cos_sin(kKnotP * t), cq = cos_sin(kKnotQ * t);
+    const double r = 2.0 + cq.x, dr = -kKnotQ * cq.y;
+    const glm::dvec3 c(r * cp.x, cq.y, r * cp.y);
+    // Frame N = T × y, B = T × N: T's horizontal part (>= p) never vanishes, so it never flips.
+    const glm::dvec3 tangent = glm::normalize(
+        glm::dvec3(dr * cp.x - r * kKnotP * cp.y, kKnotQ * cq.x, dr * cp.y + r * kKnotP * cp.x));
+    const glm::dvec3 n = glm::normalize(glm::cross(tangent, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 b = glm::cross(tangent, n);
+    for (int j = 0; j < kKnotV; ++j) {
+      const glm::dvec3 normal = around[j].x * n + around[j].y * b;  // the exact tube normal
+      const double radius = kKnotTube * (1.0 + kKnotNoise * rng.uniform(-1.0, 1.0));
+      f(c + radius * normal, normal);
+    }
+  }
+}
+
+/// The knot seen from above at kKnotElevation, centred. width_px > 0: its projection is
+/// width_px pixels wide on any target; 0: it fills kKnotFill of the target's width or height.
+Scene knot(Scene scene, double width_px) {
+  std::vector<glm::dvec2> around(kKnotV);  // the tube's cross-section, shared by every ring
+  for (int j = 0; j < kKnotV; ++j) around[j] = cos_sin(kTwoPi * j / kKnotV);
+  const double w = scene.width, h = scene.height;
+  // Far enough for the stated width with a natural lens, never nearer than kKnotMinDistance.
+  const double distance = width_px > 0
+                              ? std::max(kKnotMinDistance, kKnotFocal * h / width_px) * kKnotBound
+                              : kKnotMinDistance * kKnotBound;
+  const glm::dvec2 elevation = cos_sin(kKnotElevation);
+  const glm::dmat4 view = look_at(glm::dvec3(0.0, elevation.y, elevation.x) * distance,
+                                  glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
+  // First walk: the projection's extent per unit of focal length, x/-z and y/-z.
+  glm::dvec2 lo(1e300), hi(-1e300);
+  for_each_knot_vertex(around, [&](const glm::dvec3& p, const glm::dvec3&) {
+    const glm::dvec3 v(view * glm::dvec4(p, 1.0));
+    const glm::dvec2 s(v.x / -v.z, v.y / -v.z);
+    lo = glm::min(lo, s);
+    hi = glm::max(hi, s);
+  });
+  // Pixels per unit of x/-z (square pixels): the stated width, or the fill of the target.
+  const glm::dvec2 extent = hi - lo;
+  const double px =
+      width_px > 0 ? width_px / extent.x : kKnotFill * std::min(w / extent.x, h / extent.y);
+  const double near_plane = distance - 1.01 * kKnotBound, far_plane = distance + 1.01 * kKnotBound;
+  glm::dmat4 proj = perspective(2.0 * px / h, w / h, near_plane, far_plane);
+  // Move the box's centre to the middle of the viewport: its NDC offset times w (= -z in view).
+  proj[2][0] = proj[0][0] * 0.5 * (lo.x + hi.x);
+  proj[2][1] = proj[1][1] * 0.5 * (lo.y + hi.y);
+  const glm::dmat4 vp = proj * view;
+  scene.clear_color = rgb(20, 22, 30);  // dark blue-grey, as the orbit example's
+  scene.camera.view_projection = glm::mat4(vp);
+
+  // Second walk: clip-space positions, and Lambert light baked into the vertex colours:
+  // albedo * (ambient + diffuse * max(0, n·l)), lit from the upper left and the front.
+  const glm::dvec3 light = glm::normalize(glm::dvec3(-0.5, 0.9, 0.6));
+  const glm::dvec3 albedo(0.95, 0.55, 0.30);  // warm copper
+  constexpr double kAmbient = 0.15, kDiffuse = 0.85;
+  Mesh m;
+  m.space = Space::kClip;
+  m.color_source = ColorSource::kPerVertex;
+  const std::size_t vertices = static_cast<std::size_t>(kKnotU) * kKnotV;
+  m.positions.reserve(vertices);
+  m.colors.reserve(vertices);
+  for_each_knot_vertex(around, [&](const glm::dvec3& p, const glm::dvec3& normal) {
+    m.positions.push_back(glm::vec4(vp * glm::dvec4(p, 1.0)));
+    const double shade = kAmbient + kDiffuse * std::max(0.0, glm::dot(normal, light));
+    // Round half up (shade * albedo is in [0, 1]): exact, and no libm call.
+    const auto channel = [&](double a) { return static_cast<int>(255.0 * a * shade + 0.5); };
+    m.colors.push_back(rgb(channel(albedo.r), channel(albedo.g), channel(albedo.b)));
+  });
+  // Both loops wrap, so every edge has two triangles. Along +t then +v the quad turns inward
+  // (dP/dt × dP/dv = -normal), so (a, c, b) and (a, d, c) are counter-clockwise from outside.
+  m.indices.reserve(6 * vertices);
+  for (int i = 0; i < kKnotU; ++i) {
+    const std::uint32_t row = i * kKnotV, next = (i + 1) % kKnotU * kKnotV;
+    for (int j = 0; j < kKnotV; ++j) {
+      const std::uint32_t j1 = (j + 1) % kKnotV;
+      const std::uint32_t a = row + j, b = next + j, c = next + j1, d = row + j1;
+      for (const std::uint32_t k : {a, c, b, a, d, c}) m.indices.push_back(k);
+    }
+  }
+  scene.meshes.push_back(std::move(m));
+  return scene;
+}
+
 const std::vector<std::string>& names() {
   static const std::vector<std::string> kNames{"default", "random-small", "random-large",
-                                               "slivers", "star",         "fan"};
+                                               "slivers", "star",         "fan",
+                                               "knot",    "knot-100px",   "knot-30px"};
   return kNames;
 }
 
@@ -491,6 +609,9 @@ Scene builtin_scene(const std::string& name, int width, int height, std::uint64_
   if (name == "slivers") return slivers(std::move(scene), rng);
   if (name == "star") return star(std::move(scene));
   if (name == "fan") return fan(std::move(scene));
+  if (name == "knot") return knot(std::move(scene), 0);
+  if (name == "knot-100px") return knot(std::move(scene), 100);
+  if (name == "knot-30px") return knot(std::move(scene), 30);
   std::string known;
   for (const std::string& n : names()) known += (known.empty() ? "" : ", ") + n;
   throw Error(Errc::kInvalidArgument, "unknown scene '" + name + "' (known: " + known + ")");
