@@ -24,7 +24,7 @@ constexpr std::int64_t kPx = 256;        // one pixel in 16.8 units
 // Each triangle lives in its own cell, so that no two overlap.
 constexpr int kCell = 40, kCellsPerRow = 8;
 
-enum class Kind { kTiny, kNeedleX, kNeedleY, kNeedleDiagonal };
+enum class Kind { kTiny, kNeedleX, kFatNeedleX, kNeedleY, kNeedleDiagonal };
 
 struct Tri {
   std::array<Pt, 3> v;
@@ -42,6 +42,13 @@ std::int64_t max_offset(std::span<const mosaic::raster::SampleOffset> pattern, b
   for (const auto o : pattern)
     m = std::max(m, y ? mosaic::raster::sample_y_fixed(0, o) : mosaic::raster::sample_x_fixed(0, o));
   return m;
+}
+
+// Whether the cull may test the triangle: its area is at most kCullMaxExpectedSamples samples.
+bool small_area(const Tri& t, int samples) {
+  const std::int64_t a2 = orient(t.v[0], t.v[1], t.v[2]);
+  return (a2 < 0 ? -a2 : a2) * samples <=
+         mosaic::bin::kCullMaxExpectedSamples * mosaic::bin::kPixelArea2;
 }
 
 // Box of a triangle as setup makes it: the pixels floor(min / 256) .. floor(max / 256).
@@ -79,6 +86,12 @@ Tri make_tri(Kind kind, int n, mosaic::SplitMix64& rng, int cell,
       const std::int64_t x0 = ox + jitter(0, 20), x1 = ox + (n - 1) * kPx + jitter(200, 250);
       const std::int64_t ya = oy + jitter(gy, 250), yb = std::min<std::int64_t>(ya + 4, oy + 254);
       t.v = {Pt{x0, ya}, Pt{x1, ya}, Pt{x1, yb}};
+      break;
+    }
+    case Kind::kFatNeedleX: {
+      // As tall as the gap between sample rows: at 1x and 4x its area is over the cull's bound.
+      const std::int64_t x0 = ox + jitter(0, 20), x1 = ox + (n - 1) * kPx + jitter(200, 250);
+      t.v = {Pt{x0, oy + gy}, Pt{x1, oy + gy}, Pt{x1, oy + 254}};
       break;
     }
     case Kind::kNeedleY: {
@@ -140,7 +153,9 @@ Expected oracle(const std::vector<Tri>& tris, int w, int h,
     e.written += covered;
     e.covered.push_back(covered);
     e.ambiguous.push_back(ambiguous);
-    if (covered == 0 && box_pixels(t) * S <= mosaic::bin::kMaxCullCandidates) ++e.culled;
+    if (covered == 0 && box_pixels(t) * S <= mosaic::bin::kMaxCullCandidates &&
+        small_area(t, S))
+      ++e.culled;
   }
   return e;
 }
@@ -168,6 +183,7 @@ TEST(BinCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
           t.at_threshold = !over;
           tris.push_back(t);
         }
+        if (!over) tris.push_back(make_tri(Kind::kFatNeedleX, line, rng, cell++, pattern));
         Tri t = make_tri(Kind::kNeedleDiagonal, diagonal + over, rng, cell++, pattern);
         t.at_threshold = !over;
         tris.push_back(t);
@@ -183,14 +199,19 @@ TEST(BinCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
     const Expected want = oracle(tris, w, h, pattern);
     // The needles reach the threshold from both sides: some at it cover no sample (so the renders
     // must cull them), and some one pixel over it cover none either (so they must not).
-    int empty_at = 0, empty_over = 0;
+    // Likewise for the area bound: at 1x and 4x the fat needles cover no sample, fit the box
+    // bound, and are over the area bound, so they must not be culled.
+    int empty_at = 0, empty_over = 0, empty_large = 0;
     for (std::size_t i = 0; i < tris.size(); ++i) {
-      if (tris[i].at_threshold) empty_at += want.covered[i] == 0;
-      if (box_pixels(tris[i]) * samples > mosaic::bin::kMaxCullCandidates)
-        empty_over += want.covered[i] == 0;
+      if (want.covered[i] != 0) continue;
+      const bool box_ok = box_pixels(tris[i]) * samples <= mosaic::bin::kMaxCullCandidates;
+      empty_at += tris[i].at_threshold && small_area(tris[i], samples);
+      empty_over += !box_ok;
+      empty_large += box_ok && !small_area(tris[i], samples);
     }
     EXPECT_GT(empty_at, 0) << samples << "x";
     EXPECT_GT(empty_over, 0) << samples << "x";
+    if (samples <= 4) EXPECT_GT(empty_large, 0) << samples << "x";
 
     std::vector<glm::vec4> positions;
     std::vector<mosaic::Rgba8> colors;

@@ -21,12 +21,26 @@ namespace mosaic::bin {
 /// empty blocks anyway.
 inline constexpr int kMaxCullCandidates = 32;
 
+/// The cull tests only triangles expected to cover at most this many samples (area in px² times
+/// samples per pixel): a larger one nearly always covers one, and testing it costs more than the
+/// kernels spend on the few that do not (a 1 M-triangle mesh of ~1 px² triangles at 4x: binning
+/// 6.8 -> 31.9 ms with every small box tested, for 7 % of its triangles culled).
+inline constexpr std::int64_t kCullMaxExpectedSamples = 1;
+
+/// Twice the area of one pixel in 16.8 units², the unit of an edge cross product.
+inline constexpr std::int64_t kPixelArea2 = 2 * 256 * 256;
+
 /// True when no sample of `pattern` inside the triangle's box is covered (all three E >= 0).
-/// Boxes of more than kMaxCullCandidates samples answer false without testing: "not proven".
+/// Triangles with more than kMaxCullCandidates samples in their box, or an area of more than
+/// kCullMaxExpectedSamples samples, answer false without testing: "not proven".
 inline bool covers_no_sample(const front::TriangleSetup& t,
                              std::span<const raster::SampleOffset> pattern) {
   const std::int64_t w = t.bx1 - t.bx0, h = t.by1 - t.by0;
-  if (w * h * static_cast<std::int64_t>(pattern.size()) > kMaxCullCandidates) return false;
+  const auto samples = static_cast<std::int64_t>(pattern.size());
+  if (w * h * samples > kMaxCullCandidates) return false;
+  // Twice the area: the cross product of two edge directions, (b, -a) each (|a|, |b| < 2^24).
+  const std::int64_t area2 = t.edge[0].a * t.edge[1].b - t.edge[0].b * t.edge[1].a;
+  if ((area2 < 0 ? -area2 : area2) * samples > kCullMaxExpectedSamples * kPixelArea2) return false;
   for (int py = t.by0; py < t.by1; ++py) {
     for (int px = t.bx0; px < t.bx1; ++px) {
       for (const raster::SampleOffset o : pattern) {
