@@ -379,10 +379,9 @@ void occlusion_table(const Results& r) {
       const Case* c = find(r, std::string("occlusion/") + kind + "/" + where);
       if (!c) continue;
       const bool rects = std::string(kind) == "rects";
-      const std::string rate =
-          rects ? fmt(c->counter("Mrects/s"), "%.1f") + " M rectangles/s"
-                : fmt(c->counter("Kqueries/s"), "%.0f") + " k boxes/s (" +
-                      fmt(c->counter("Mtri/s"), "%.1f") + " M triangles/s)";
+      const std::string rate = rects ? fmt(c->counter("Mrects/s"), "%.1f") + " M rectangles/s"
+                                     : fmt(c->counter("Kqueries/s"), "%.0f") + " k boxes/s (" +
+                                           fmt(c->counter("Mtri/s"), "%.1f") + " M triangles/s)";
       std::cout << "| " << (rects ? "100k rectangles, 8–64 px" : "10k boxes of 12 triangles")
                 << " | " << where << " | " << fmt(c->ms, "%.2f") << " | " << rate << " | "
                 << fmt(c->counter("hidden").value_or(0) * 100, "%.0f %%") << " |\n";

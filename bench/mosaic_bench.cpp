@@ -225,7 +225,7 @@ struct StageRig {
   std::vector<mosaic::bin::Chunk> chunks;
   mosaic::bin::TileGrid grid;
   std::span<const mosaic::raster::SampleOffset> pattern;  ///< the binner culls by it
-  std::unique_ptr<tbb::global_control> parallelism;  // outlives the arena
+  std::unique_ptr<tbb::global_control> parallelism;       // outlives the arena
   tbb::task_arena arena;
   mosaic::raster::TileKernel kernel = nullptr;
   mosaic::front::FrontEnd front_end = nullptr;  ///< the SIMD front end of the kernel's ISA

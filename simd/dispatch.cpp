@@ -27,13 +27,16 @@ namespace {
 bool cpu_has(Isa isa) {
   __builtin_cpu_init();
   switch (isa) {
-    case Isa::kSse41: return __builtin_cpu_supports("sse4.1");
-    case Isa::kAvx2: return __builtin_cpu_supports("avx2");
+    case Isa::kSse41:
+      return __builtin_cpu_supports("sse4.1");
+    case Isa::kAvx2:
+      return __builtin_cpu_supports("avx2");
     case Isa::kAvx512:
       return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
              __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512cd") &&
              __builtin_cpu_supports("avx512vl");
-    default: return false;
+    default:
+      return false;
   }
 }
 
@@ -42,10 +45,14 @@ template <class F>
 F pick(Isa isa, F sse41, F avx2, F avx512) {
   if (!cpu_has(isa)) return nullptr;
   switch (isa) {
-    case Isa::kSse41: return sse41;
-    case Isa::kAvx2: return avx2;
-    case Isa::kAvx512: return avx512;
-    default: return nullptr;
+    case Isa::kSse41:
+      return sse41;
+    case Isa::kAvx2:
+      return avx2;
+    case Isa::kAvx512:
+      return avx512;
+    default:
+      return nullptr;
   }
 }
 

@@ -5,8 +5,8 @@
 namespace mosaic::simd {
 
 void tile_kernel_sse41(const raster::TileFrame& f, const raster::TileRect& tile,
-                 std::span<const raster::BinRun> bin, raster::TileScratch& sc,
-                 raster::TileStats& st) {
+                       std::span<const raster::BinRun> bin, raster::TileScratch& sc,
+                       raster::TileStats& st) {
   raster::TileKernelImpl<xsimd::sse4_1>::run(f, tile, bin, sc, st);
 }
 

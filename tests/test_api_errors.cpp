@@ -105,7 +105,8 @@ TEST(ApiErrors, MovedFromRenderer) {
     f.draws = std::span<const Draw>(&d, 1);
     RenderTarget t(16, 16, 4);
     const std::uint64_t cleared = t.image_hash();
-    expect_error(Errc::kInvalidArgument, [&] { from.render(f, t); });  // NOLINT(bugprone-use-after-move)
+    expect_error(Errc::kInvalidArgument,
+                 [&] { from.render(f, t); });  // NOLINT(bugprone-use-after-move)
     EXPECT_EQ(t.image_hash(), cleared);
     EXPECT_EQ(from.isa(), Isa::kReference);
     EXPECT_EQ(from.threads(), 0);

@@ -40,7 +40,8 @@ std::int64_t orient(Pt a, Pt b, Pt p) {
 std::int64_t max_offset(std::span<const mosaic::raster::SampleOffset> pattern, bool y) {
   std::int64_t m = 0;
   for (const auto o : pattern)
-    m = std::max(m, y ? mosaic::raster::sample_y_fixed(0, o) : mosaic::raster::sample_x_fixed(0, o));
+    m = std::max(m,
+                 y ? mosaic::raster::sample_y_fixed(0, o) : mosaic::raster::sample_x_fixed(0, o));
   return m;
 }
 
@@ -153,8 +154,7 @@ Expected oracle(const std::vector<Tri>& tris, int w, int h,
     e.written += covered;
     e.covered.push_back(covered);
     e.ambiguous.push_back(ambiguous);
-    if (covered == 0 && box_pixels(t) * S <= mosaic::bin::kMaxCullCandidates &&
-        small_area(t, S))
+    if (covered == 0 && box_pixels(t) * S <= mosaic::bin::kMaxCullCandidates && small_area(t, S))
       ++e.culled;
   }
   return e;
@@ -217,8 +217,8 @@ TEST(BinCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
     std::vector<mosaic::Rgba8> colors;
     for (std::size_t i = 0; i < tris.size(); ++i) {
       for (const Pt& p : tris[i].v)
-        positions.push_back({static_cast<float>(p[0]) / kPx, static_cast<float>(p[1]) / kPx, 0.5f,
-                             1.0f});
+        positions.push_back(
+            {static_cast<float>(p[0]) / kPx, static_cast<float>(p[1]) / kPx, 0.5f, 1.0f});
       colors.push_back(color_of(static_cast<int>(i)));
     }
     mosaic::Draw d;

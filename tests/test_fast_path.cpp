@@ -106,8 +106,7 @@ TestScene make_scene(Shape shape, int w, int h, int count, std::uint64_t seed, b
 using Result = mosaic::test::Captured;
 
 Result render(const TestScene& sc, int w, int h, int samples, Isa isa, int threads,
-              mosaic::DrawState state, bool ssaa = false, bool painter = false,
-              int tile_size = 0) {
+              mosaic::DrawState state, bool ssaa = false, bool painter = false, int tile_size = 0) {
   mosaic::RenderTarget target(w, h, samples, {true, true});
   target.set_clear({10, 20, 30, 255}, state.depth_test == mosaic::DepthTest::kGreater ? 0.f : 1.f);
   mosaic::Draw d;

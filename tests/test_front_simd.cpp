@@ -13,11 +13,10 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <random>
 #include <vector>
-
-#include <glm/gtc/matrix_transform.hpp>
 
 #include "front/front_end.hpp"
 #include "simd/dispatch.hpp"
@@ -92,7 +91,8 @@ void expect_same_into(const Draw& d, front::FrontStats& whole) {
     ASSERT_NE(fe, nullptr);
     for (const auto& [b, e] : ranges) {
       for (bool with_planes : {true, false}) {
-        SCOPED_TRACE(testing::Message() << "range [" << b << ", " << e << ") planes " << with_planes);
+        SCOPED_TRACE(testing::Message()
+                     << "range [" << b << ", " << e << ") planes " << with_planes);
         const Output want = run(&front::run_front_end, d, b, e, with_planes);
         const Output got = run(fe, d, b, e, with_planes);
         EXPECT_EQ(got.stats.in, want.stats.in);
@@ -141,7 +141,8 @@ struct ScreenScene {
         const auto c = static_cast<std::uint8_t>(t % 4 == 0 ? rng() : t);
         vertex_colors.push_back({c, static_cast<std::uint8_t>(c + k * (t % 4 == 0)), 9, 255});
       }
-      tri_colors.push_back({static_cast<std::uint8_t>(t), static_cast<std::uint8_t>(rng()), 3, 200});
+      tri_colors.push_back(
+          {static_cast<std::uint8_t>(t), static_cast<std::uint8_t>(rng()), 3, 200});
     }
   }
 
@@ -159,7 +160,8 @@ struct ScreenScene {
 
 TEST(FrontSimd, ScreenSpaceEveryStateAndColourSource) {
   const ScreenScene scene(601, 1);
-  for (ColorSource source : {ColorSource::kConstant, ColorSource::kPerTriangle, ColorSource::kPerVertex})
+  for (ColorSource source :
+       {ColorSource::kConstant, ColorSource::kPerTriangle, ColorSource::kPerVertex})
     for (CullMode cull : {CullMode::kNone, CullMode::kBack, CullMode::kFront})
       for (FrontFace face : {FrontFace::kCounterClockwise, FrontFace::kClockwise})
         for (FillRule rule : {FillRule::kD3D, FillRule::kOpenGL}) {
@@ -252,8 +254,8 @@ TEST(FrontSimd, ClipSpaceThroughPerspectiveFallsBackWhereClipped) {
       for (bool indexed : {false, true}) {
         SCOPED_TRACE(testing::Message() << "source " << int(source) << " indexed " << indexed
                                         << " pretransformed " << pretransformed);
-        d.indices = indexed ? std::span<const std::uint32_t>(indices)
-                            : std::span<const std::uint32_t>();
+        d.indices =
+            indexed ? std::span<const std::uint32_t>(indices) : std::span<const std::uint32_t>();
         const front::FrontStats s = expect_same(d);
         EXPECT_GT(s.clipped, 0u);
         EXPECT_GT(s.outside, 0u);
@@ -278,8 +280,8 @@ TEST(FrontSimd, NonFiniteAndEyePointVerticesFallBack) {
     tri(in0, glm::vec4(nan, 10, 0.5f, 1), in2);
     tri(glm::vec4(inf, 10, 0.5f, 1), in1, in2);
     tri(in0, in1, glm::vec4(10, 60, 0.5f, -inf));
-    tri(glm::vec4(0, 0, 0, 0), in1, in2);        // W = 0 on the eye point
-    tri(in0, glm::vec4(10, 10, 0.5f, -1), in2);  // behind the eye
+    tri(glm::vec4(0, 0, 0, 0), in1, in2);                      // W = 0 on the eye point
+    tri(in0, glm::vec4(10, 10, 0.5f, -1), in2);                // behind the eye
     tri(in0, in1, glm::vec4(1e-30f, 1e-30f, 1e-40f, 1e-40f));  // the divide overflows
     tri(in2, in1, in0);
   }
@@ -299,10 +301,26 @@ TEST(FrontSimd, NonFiniteAndEyePointVerticesFallBack) {
 // edges of the target and of the guard band, huge and tiny magnitudes, signed zeros, and W other
 // than 1 (clip space), in random combinations, with per-vertex colours.
 TEST(FrontSimd, SnapTiesGuardBandAndExtremeMagnitudes) {
-  const float xs[] = {0.0f,        -0.0f,        1.0f / 512,  -1.0f / 512, 10.0f + 3.0f / 512,
-                      -7.0f - 1.0f / 512, 319.99f, 320.0f,  320.5f,      199.998046875f,
-                      200.0f,      32767.998f,   32768.0f,    -32768.0f,   40000.0f,
-                      1e30f,       -1e30f,       1e-30f,      3.5f,        150.25f};
+  const float xs[] = {0.0f,
+                      -0.0f,
+                      1.0f / 512,
+                      -1.0f / 512,
+                      10.0f + 3.0f / 512,
+                      -7.0f - 1.0f / 512,
+                      319.99f,
+                      320.0f,
+                      320.5f,
+                      199.998046875f,
+                      200.0f,
+                      32767.998f,
+                      32768.0f,
+                      -32768.0f,
+                      40000.0f,
+                      1e30f,
+                      -1e30f,
+                      1e-30f,
+                      3.5f,
+                      150.25f};
   const float zs[] = {0.0f, -0.0f, 0.5f, 1.0f, 1e-40f, 0.999999f};
   const float ws[] = {1.0f, 1.0f, 1.0f, 0.5f, 2.0f, 1e-3f, 1e3f};
   std::mt19937 rng(11);
@@ -315,7 +333,8 @@ TEST(FrontSimd, SnapTiesGuardBandAndExtremeMagnitudes) {
       const float base_x = pick(xs), base_y = pick(xs);
       p.emplace_back(k == 0 || rng() % 2 ? base_x : base_x + pick(xs) / 64,
                      k == 0 || rng() % 2 ? base_y : base_y + pick(xs) / 64, pick(zs), pick(ws));
-      colors.push_back({static_cast<std::uint8_t>(rng() % 3), 40, static_cast<std::uint8_t>(k), 255});
+      colors.push_back(
+          {static_cast<std::uint8_t>(rng() % 3), 40, static_cast<std::uint8_t>(k), 255});
     }
   }
   for (Space space : {Space::kScreen, Space::kClip}) {
@@ -337,7 +356,8 @@ TEST(FrontSimd, ShaderDrawsWithAndWithoutVaryings) {
   const ScreenScene scene(203, 3);
   std::vector<float> attributes;
   for (std::size_t i = 0; i < scene.positions.size(); ++i)
-    for (int a = 0; a < 4; ++a) attributes.push_back(static_cast<float>(i % 17) * 0.25f + static_cast<float>(a));
+    for (int a = 0; a < 4; ++a)
+      attributes.push_back(static_cast<float>(i % 17) * 0.25f + static_cast<float>(a));
   const std::vector<std::uint32_t> varyings{0, 1, 3, 2};
   Draw d = scene.draw(ColorSource::kPerVertex);
   d.shader = flat_color_shader({0.1f, 0.2f, 0.3f, 1.0f});

@@ -421,8 +421,8 @@ int compare(const std::vector<std::string>& files, int cores) {
       if (e.tile_size == default_size) at_default = fmt("%.2f", e.model_ms);
     }
     std::snprintf(row, sizeof row, "| %s | %d | %d | %.2f | %s | %.2f | %.2f | %.2f |\n",
-                  key.first.c_str(), key.second, best->tile_size, best->model_ms, at_default.c_str(),
-                  best->cpu_1t, best->wall_1t, best->wall_2t);
+                  key.first.c_str(), key.second, best->tile_size, best->model_ms,
+                  at_default.c_str(), best->cpu_1t, best->wall_1t, best->wall_2t);
     summary += row;
   }
   std::printf("%zu runs; load average at their start %.2f to %.2f.\n\n", files.size(), load_min,
@@ -669,10 +669,9 @@ int main(int argc, char** argv) {
         "mosaic-scaling: tile size %s, %s, %dx%d; load average %.2f at the start (%u hardware "
         "threads). Costs: median of %d frames on 1 thread (costs on) after %d warm-up; real "
         "frames: median of %d, 1 and 2 threads alternating, costs off.\n\n",
-        set.tile_size ? (std::to_string(set.tile_size) + " px").c_str()
-                      : "chosen per sample count",
-        mosaic::to_string(probe.isa()), width, height, load,
-        std::thread::hardware_concurrency(), set.frames, set.warmup, set.frames);
+        set.tile_size ? (std::to_string(set.tile_size) + " px").c_str() : "chosen per sample count",
+        mosaic::to_string(probe.isa()), width, height, load, std::thread::hardware_concurrency(),
+        set.frames, set.warmup, set.frames);
     std::printf(
         "Work per frame (ms on 1 thread; a tile's cost is clear, rasterize, resolve):\n\n%s",
         work.c_str());

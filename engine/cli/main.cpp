@@ -42,10 +42,8 @@ int run(int argc, char** argv) {
       "Run `mosaic <command> --help` for a command's options. Exit status: 0 on success, "
       "2 for a malformed command line, 1 for bad input files or a failure while running.");
   const std::vector<mosaic::cli::Command> commands = {
-      mosaic::cli::add_render_command(app),
-      mosaic::cli::add_export_command(app),
-      mosaic::cli::add_scenes_command(app),
-      mosaic::cli::add_stress_command(app),
+      mosaic::cli::add_render_command(app), mosaic::cli::add_export_command(app),
+      mosaic::cli::add_scenes_command(app), mosaic::cli::add_stress_command(app),
       mosaic::cli::add_report_command(app),
   };
   try {

@@ -3,6 +3,14 @@
 // validate → front end (transform, clip, cull, snap, setup) → binning (each chunk right after its
 // front end) → tile rasterization (coverage, hierarchical z, depth, shading) → resolve.
 // Isa::kReference sends the whole frame to the exact scalar oracle instead.
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -11,19 +19,11 @@
 #include <string>
 #include <thread>
 
-#include <tbb/blocked_range.h>
-#include <tbb/combinable.h>
-#include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
-#include <tbb/global_control.h>
-#include <tbb/info.h>
-#include <tbb/task_arena.h>
-
-#include "front/front_end.hpp"
+#include "bin/binner.hpp"
 #include "frame_checks.hpp"
+#include "front/front_end.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/renderer.hpp"
-#include "bin/binner.hpp"
 #include "raster/hiz.hpp"
 #include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
@@ -130,7 +130,8 @@ struct ChunkJob {
   std::uint32_t draw = 0, begin = 0, end = 0;
 };
 
-double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+double ms_between(std::chrono::steady_clock::time_point a,
+                  std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
@@ -142,7 +143,7 @@ struct Renderer::Impl {
   int threads = 1;
   raster::TileKernel kernel = nullptr;
   front::FrontEnd front_end = &front::run_front_end;  ///< the SIMD one of `isa`, when there is one
-  std::unique_ptr<tbb::global_control> parallelism;  // declared before the arena: outlives it
+  std::unique_ptr<tbb::global_control> parallelism;   // declared before the arena: outlives it
   std::unique_ptr<tbb::task_arena> arena;
   // Per-frame memory, kept between frames so that steady-state frames do not allocate.
   std::vector<bin::Chunk> chunks;
@@ -168,14 +169,14 @@ struct Renderer::Impl {
 
 Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
   if (options.threads < 0 || options.threads > kMaxThreads)
-    throw Error(Errc::kInvalidArgument,
-                "thread count " + std::to_string(options.threads) + " is outside 0.." +
-                    std::to_string(kMaxThreads));
+    throw Error(Errc::kInvalidArgument, "thread count " + std::to_string(options.threads) +
+                                            " is outside 0.." + std::to_string(kMaxThreads));
   const int ts = options.tile_size;
   if (ts != 0 && (ts < kMinTileSize || ts > kMaxTileSize || !std::has_single_bit(unsigned(ts))))
-    throw Error(Errc::kInvalidArgument,
-                "tile size " + std::to_string(ts) + " is not 0 (automatic) or a power of two from " +
-                    std::to_string(kMinTileSize) + " to " + std::to_string(kMaxTileSize));
+    throw Error(Errc::kInvalidArgument, "tile size " + std::to_string(ts) +
+                                            " is not 0 (automatic) or a power of two from " +
+                                            std::to_string(kMinTileSize) + " to " +
+                                            std::to_string(kMaxTileSize));
   impl_->options = options;
   const std::vector<Isa> isas = available_isas();
   if (options.isa == Isa::kAuto) {
@@ -183,9 +184,8 @@ Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
   } else if (std::find(isas.begin(), isas.end(), options.isa) != isas.end()) {
     impl_->isa = options.isa;
   } else {
-    throw Error(Errc::kUnsupportedIsa,
-                std::string("instruction set ") + to_string(options.isa) +
-                    " is not available on this CPU or build");
+    throw Error(Errc::kUnsupportedIsa, std::string("instruction set ") + to_string(options.isa) +
+                                           " is not available on this CPU or build");
   }
   impl_->threads = options.threads > 0
                        ? options.threads
@@ -217,8 +217,7 @@ int Renderer::threads() const noexcept {
 }
 
 FrameStats Renderer::render(const Frame& frame, RenderTarget& target) {
-  if (!impl_)
-    throw Error(Errc::kInvalidArgument, "render() called on a moved-from Renderer");
+  if (!impl_) throw Error(Errc::kInvalidArgument, "render() called on a moved-from Renderer");
   validate(frame, target);
   if (impl_->isa == Isa::kReference) return impl_->render_reference(frame, target);
   return impl_->render_fast(frame, target);
@@ -238,8 +237,8 @@ FrameStats Renderer::Impl::render_reference(const Frame& frame, RenderTarget& ta
   const FrameStats stats = reference::render(frame, target, &samples);
   hiz.reset(target.width(), target.height());
   raster::block_bounds_from_samples(samples.depth, target.width(), target.height(),
-                                    target.samples(), HierarchicalZ::kBlockSize,
-                                    hiz.zmin_storage(), hiz.zmax_storage());
+                                    target.samples(), HierarchicalZ::kBlockSize, hiz.zmin_storage(),
+                                    hiz.zmax_storage());
   return stats;
 }
 
@@ -331,9 +330,10 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   const auto t2 = Clock::now();
   const double setup_share = setup_thread_ms.combine(std::plus<>()),
                binning_share = binning_thread_ms.combine(std::plus<>());
-  const double ms_binning = setup_share + binning_share > 0
-                                ? ms_between(t_front, t2) * binning_share / (setup_share + binning_share)
-                                : 0.0;
+  const double ms_binning =
+      setup_share + binning_share > 0
+          ? ms_between(t_front, t2) * binning_share / (setup_share + binning_share)
+          : 0.0;
 
   // Stage 3: tiles, busiest first so the longest tile starts early; one worker owns a tile
   // from clear to resolve.
@@ -343,8 +343,9 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     for (std::size_t c = 0; c < nchunks; ++c) n += chunks[c].offsets[t + 1] - chunks[c].offsets[t];
     tile_order.push_back({n, t});
   }
-  std::sort(tile_order.begin(), tile_order.end(),
-            [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+  std::sort(tile_order.begin(), tile_order.end(), [](const auto& a, const auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
 
   raster::TileFrame tf;
   tf.states = states;
@@ -408,14 +409,18 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
             const raster::TileRect rect = grid.rect(t);
             kernel(tf, rect, bin, sc, ts);
             if (record)
-              stats.tile_costs[t] = {rect.x0, rect.y0, rect.width, rect.height,
+              stats.tile_costs[t] = {rect.x0,
+                                     rect.y0,
+                                     rect.width,
+                                     rect.height,
                                      static_cast<std::uint32_t>(tile_order[k].first),
                                      ms_between(c0, Clock::now())};
           }
         },
         tbb::simple_partitioner());
   });
-  const raster::TileStats ts = tile_stats.combine([](raster::TileStats a, const raster::TileStats& b) { return a += b; });
+  const raster::TileStats ts =
+      tile_stats.combine([](raster::TileStats a, const raster::TileStats& b) { return a += b; });
   stats.blocks_hiz_rejected = ts.blocks_hiz_rejected;
   stats.blocks_hiz_accepted = ts.blocks_hiz_accepted;
   stats.samples_tested = ts.samples_tested;

@@ -11,9 +11,8 @@ namespace mosaic {
 RenderTarget::RenderTarget(int width, int height, int samples, TargetOptions options)
     : width_(width), height_(height), samples_(samples), options_(options) {
   if (width < 1 || width > kMaxTargetSize || height < 1 || height > kMaxTargetSize) {
-    throw Error(Errc::kInvalidTargetSize,
-                "render target size " + std::to_string(width) + "x" + std::to_string(height) +
-                    " is outside 1..16384");
+    throw Error(Errc::kInvalidTargetSize, "render target size " + std::to_string(width) + "x" +
+                                              std::to_string(height) + " is outside 1..16384");
   }
   if (raster::sample_pattern(samples).empty()) {
     throw Error(Errc::kUnsupportedSampleCount,
@@ -23,8 +22,7 @@ RenderTarget::RenderTarget(int width, int height, int samples, TargetOptions opt
 }
 
 void RenderTarget::set_clear(Rgba8 color, float depth) {
-  if (!std::isfinite(depth))
-    throw Error(Errc::kInvalidArgument, "clear depth must be finite");
+  if (!std::isfinite(depth)) throw Error(Errc::kInvalidArgument, "clear depth must be finite");
   clear_color_ = color;
   clear_depth_ = depth;
 }
@@ -49,11 +47,16 @@ std::uint64_t RenderTarget::image_hash() const noexcept {
 
 const char* to_string(Isa isa) noexcept {
   switch (isa) {
-    case Isa::kAuto: return "auto";
-    case Isa::kReference: return "reference";
-    case Isa::kSse41: return "sse4.1";
-    case Isa::kAvx2: return "avx2";
-    case Isa::kAvx512: return "avx512";
+    case Isa::kAuto:
+      return "auto";
+    case Isa::kReference:
+      return "reference";
+    case Isa::kSse41:
+      return "sse4.1";
+    case Isa::kAvx2:
+      return "avx2";
+    case Isa::kAvx512:
+      return "avx512";
   }
   return "?";
 }

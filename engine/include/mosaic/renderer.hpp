@@ -59,11 +59,11 @@ struct FrameStats {
   std::uint64_t triangles_clipped = 0;      ///< submitted triangles that needed clipping
   /// culled after setup: the samples of the triangle's box (up to a few dozen) are all outside it
   std::uint64_t triangles_no_sample = 0;
-  std::uint64_t triangles_drawn = 0;        ///< triangles rasterized, after clipping and culling
-  std::uint64_t triangles_binned = 0;       ///< (triangle, tile) pairs in the bins
-  std::uint64_t blocks_hiz_rejected = 0;    ///< blocks skipped by hierarchical z
-  std::uint64_t blocks_hiz_accepted = 0;    ///< blocks where hierarchical z skipped the depth test
-  std::uint64_t samples_tested = 0;         ///< covered samples that reached the depth test
+  std::uint64_t triangles_drawn = 0;      ///< triangles rasterized, after clipping and culling
+  std::uint64_t triangles_binned = 0;     ///< (triangle, tile) pairs in the bins
+  std::uint64_t blocks_hiz_rejected = 0;  ///< blocks skipped by hierarchical z
+  std::uint64_t blocks_hiz_accepted = 0;  ///< blocks where hierarchical z skipped the depth test
+  std::uint64_t samples_tested = 0;       ///< covered samples that reached the depth test
   /// Samples that passed the depth test, over all triangles: their colour was written, unless
   /// the draw's DrawState::color_write was off (and their depth, if depth_write was on).
   std::uint64_t samples_written = 0;
@@ -88,7 +88,7 @@ struct RendererOptions {
   /// allowed (the image never depends on the count); while such a Renderer lives it raises oneTBB's
   /// process-wide worker limit to its count, and two such Renderers share the smaller of the two.
   int threads = 0;
-  Isa isa = Isa::kAuto;   ///< kAuto picks the best SIMD path the CPU runs
+  Isa isa = Isa::kAuto;  ///< kAuto picks the best SIMD path the CPU runs
   /// Time every tile and front-end chunk into FrameStats::tile_costs / chunk_costs. Costs two
   /// clock reads per tile (chunks are timed anyway, for ms_setup and ms_binning); off by default.
   bool record_costs = false;

@@ -24,8 +24,8 @@ namespace {
 bool edges_touch(const front::TriangleSetup& t, int tx, int ty, std::int64_t span) {
   const std::int64_t x0 = tx * span, y0 = ty * span;
   for (const front::EdgeFunction& e : t.edge) {
-    const std::int64_t hi = e(x0, y0) + std::max<std::int64_t>(0, e.a * span) +
-                            std::max<std::int64_t>(0, e.b * span);
+    const std::int64_t hi =
+        e(x0, y0) + std::max<std::int64_t>(0, e.a * span) + std::max<std::int64_t>(0, e.b * span);
     if (hi < 0) return false;
   }
   return true;
@@ -33,8 +33,7 @@ bool edges_touch(const front::TriangleSetup& t, int tx, int ty, std::int64_t spa
 
 }  // namespace
 
-BinCounts bin_chunk(Chunk& c, const TileGrid& grid,
-                    std::span<const raster::SampleOffset> pattern) {
+BinCounts bin_chunk(Chunk& c, const TileGrid& grid, std::span<const raster::SampleOffset> pattern) {
   BinCounts counts;
   const int tiles = grid.count();
   c.offsets.assign(static_cast<std::size_t>(tiles) + 1, 0);

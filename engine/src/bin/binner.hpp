@@ -26,8 +26,12 @@ struct TileGrid {
   int tiles_x = 0, tiles_y = 0;
   TileGrid() = default;
   TileGrid(int w, int h, int tile_size)
-      : width(w), height(h), size(tile_size), shift(std::countr_zero(unsigned(tile_size))),
-        tiles_x((w + size - 1) / size), tiles_y((h + size - 1) / size) {}
+      : width(w),
+        height(h),
+        size(tile_size),
+        shift(std::countr_zero(unsigned(tile_size))),
+        tiles_x((w + size - 1) / size),
+        tiles_y((h + size - 1) / size) {}
   int count() const { return tiles_x * tiles_y; }
   raster::TileRect rect(int tile) const;
 };

@@ -14,12 +14,18 @@ enum Plane { kNear, kFar, kLeft, kRight, kTop, kBottom, kPlaneCount };
 
 double distance(const ClipVertex& v, int plane) {
   switch (plane) {
-    case kNear: return v.Z;
-    case kFar: return v.W - v.Z;
-    case kLeft: return v.X + kGuard * v.W;
-    case kRight: return kGuard * v.W - v.X;
-    case kTop: return v.Y + kGuard * v.W;
-    default: return kGuard * v.W - v.Y;
+    case kNear:
+      return v.Z;
+    case kFar:
+      return v.W - v.Z;
+    case kLeft:
+      return v.X + kGuard * v.W;
+    case kRight:
+      return kGuard * v.W - v.X;
+    case kTop:
+      return v.Y + kGuard * v.W;
+    default:
+      return kGuard * v.W - v.Y;
   }
 }
 
@@ -57,12 +63,24 @@ ClipVertex intersect(const ClipVertex& p, const ClipVertex& q, int plane) {
   // The point lies on the plane by construction; pin it there so rounding cannot leave it a
   // hair outside and fail the next plane's test or the 16.8 range.
   switch (plane) {
-    case kNear: r.Z = 0; break;
-    case kFar: r.Z = r.W; break;
-    case kLeft: r.X = -kGuard * r.W; break;
-    case kRight: r.X = kGuard * r.W; break;
-    case kTop: r.Y = -kGuard * r.W; break;
-    default: r.Y = kGuard * r.W; break;
+    case kNear:
+      r.Z = 0;
+      break;
+    case kFar:
+      r.Z = r.W;
+      break;
+    case kLeft:
+      r.X = -kGuard * r.W;
+      break;
+    case kRight:
+      r.X = kGuard * r.W;
+      break;
+    case kTop:
+      r.Y = -kGuard * r.W;
+      break;
+    default:
+      r.Y = kGuard * r.W;
+      break;
   }
   return r;
 }

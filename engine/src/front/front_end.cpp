@@ -27,7 +27,8 @@ void FrontStats::add_to(FrameStats& s) const {
 
 std::uint32_t triangle_count(const Draw& draw) {
   if (!draw.indices.empty()) return static_cast<std::uint32_t>(draw.indices.size() / 3);
-  const std::size_t n = draw.positions_xyz.empty() ? draw.positions.size() : draw.positions_xyz.size();
+  const std::size_t n =
+      draw.positions_xyz.empty() ? draw.positions.size() : draw.positions_xyz.size();
   return static_cast<std::uint32_t>(n / 3);
 }
 
@@ -136,8 +137,8 @@ void TriangleFrontEnd::run(std::uint32_t t) {
     if (why != SetupReject::kNone) continue;
     if (shader && planes_)
       setup_varyings(tri, basis,
-                     {poly_attr[0].data(), poly_attr[k].data(), poly_attr[k + 1].data()}, nvary,
-                     ts, *planes_);
+                     {poly_attr[0].data(), poly_attr[k].data(), poly_attr[k + 1].data()}, nvary, ts,
+                     *planes_);
     ts.draw = draw_index_;
     if (sort_keys) sort_keys->push_back(sort_depth(tri, basis));
     ++stats.drawn;

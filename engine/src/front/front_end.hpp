@@ -10,10 +10,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <vector>
-
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
+#include <vector>
 
 #include "front/setup.hpp"
 #include "mosaic/draw.hpp"
@@ -44,9 +43,8 @@ void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t beg
 
 /// A front end with run_front_end()'s signature: the scalar one or a SIMD one (simd/dispatch.hpp).
 using FrontEnd = void (*)(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
-                          std::uint32_t end, int width, int height,
-                          std::vector<TriangleSetup>& out, FrontStats& stats,
-                          std::vector<Plane>* planes);
+                          std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
+                          FrontStats& stats, std::vector<Plane>* planes);
 
 /// Vertex fetch: a draw's vertex in window-homogeneous space (pixel x = X / W).
 struct VertexFetch {

@@ -60,9 +60,8 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
 
   // Twice the signed area in 16.8 units². y points down, so a triangle that looks
   // counter-clockwise on screen has a negative area here.
-  const std::int64_t area2 =
-      std::int64_t{p[1].x - p[0].x} * (p[2].y - p[0].y) -
-      std::int64_t{p[2].x - p[0].x} * (p[1].y - p[0].y);
+  const std::int64_t area2 = std::int64_t{p[1].x - p[0].x} * (p[2].y - p[0].y) -
+                             std::int64_t{p[2].x - p[0].x} * (p[1].y - p[0].y);
   if (area2 == 0) return SetupReject::kDegenerate;
   const bool ccw_on_screen = area2 < 0;
   const bool front = (state.front_face == FrontFace::kCounterClockwise) == ccw_on_screen;
@@ -109,7 +108,8 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
     Z[i] = v[idx[i]].z;
     Q[i] = v[idx[i]].q;
   }
-  const double area_px2 = static_cast<double>(area2 < 0 ? -area2 : area2) / (kUnitsPerPx * kUnitsPerPx);
+  const double area_px2 =
+      static_cast<double>(area2 < 0 ? -area2 : area2) / (kUnitsPerPx * kUnitsPerPx);
   if (basis) *basis = {X, Y, idx, area_px2};
   out.x0 = static_cast<float>(X[0]);
   out.y0 = static_cast<float>(Y[0]);

@@ -23,9 +23,9 @@ namespace mosaic::front {
 
 /// A vertex after the perspective divide, before snapping.
 struct ScreenVertex {
-  double x = 0, y = 0;  ///< pixels, y down
-  float z = 0;          ///< depth in [0, 1]
-  double q = 1;         ///< 1 / w, for perspective-correct colour
+  double x = 0, y = 0;                         ///< pixels, y down
+  float z = 0;                                 ///< depth in [0, 1]
+  double q = 1;                                ///< 1 / w, for perspective-correct colour
   std::array<double, kColorChannels> color{};  ///< 0..255 per channel
 };
 
@@ -80,12 +80,12 @@ inline constexpr std::uint32_t kColorPlanes = static_cast<std::uint32_t>(1 + kCo
 /// - otherwise (flat colour, or a shader draw without varyings) planes_base is kNoPlanes.
 struct alignas(64) TriangleSetup {
   std::array<EdgeFunction, 3> edge;
-  float x0 = 0, y0 = 0;                  ///< plane anchor: the snapped first vertex, in pixels
+  float x0 = 0, y0 = 0;                    ///< plane anchor: the snapped first vertex, in pixels
   int bx0 = 0, by0 = 0, bx1 = 0, by1 = 0;  ///< pixels [bx0, bx1) × [by0, by1) that may be covered
   Plane z;
-  float z_min = 0, z_max = 0;  ///< depth is clamped to the vertices' range
-  Rgba8 color;                 ///< the colour when planes_base is kNoPlanes
-  std::uint32_t draw = 0;      ///< index of the draw, for its state
+  float z_min = 0, z_max = 0;             ///< depth is clamped to the vertices' range
+  Rgba8 color;                            ///< the colour when planes_base is kNoPlanes
+  std::uint32_t draw = 0;                 ///< index of the draw, for its state
   std::uint32_t planes_base = kNoPlanes;  ///< see above
 };
 

@@ -20,7 +20,6 @@
 #include <cmath>
 #include <cstdint>
 #include <vector>
-
 #include <xsimd/xsimd.hpp>
 
 #include "front/front_end.hpp"
@@ -177,9 +176,8 @@ struct FrontEndSimd {
       cull_n = cull_n && Z[k] < D(0.0);
       cull_f = cull_f && Z[k] > W[k];
       const D gw = D(kGuard) * W[k];
-      outside_any = outside_any || Z[k] < D(0.0) || W[k] - Z[k] < D(0.0) ||
-                    X[k] + gw < D(0.0) || gw - X[k] < D(0.0) || Y[k] + gw < D(0.0) ||
-                    gw - Y[k] < D(0.0);
+      outside_any = outside_any || Z[k] < D(0.0) || W[k] - Z[k] < D(0.0) || X[k] + gw < D(0.0) ||
+                    gw - X[k] < D(0.0) || Y[k] + gw < D(0.0) || gw - Y[k] < D(0.0);
     }
     const B clip_culled = cull_l || cull_r || cull_t || cull_b || cull_n || cull_f;
 
@@ -251,7 +249,7 @@ struct FrontEndSimd {
     // Planes over the oriented corners in pixels (x / 256 is exact: a power of two).
     const D Xs[3] = {ox[0] * D(kPxPerUnit), ox[1] * D(kPxPerUnit), ox[2] * D(kPxPerUnit)};
     const D Ys[3] = {oy[0] * D(kPxPerUnit), oy[1] * D(kPxPerUnit), oy[2] * D(kPxPerUnit)};
-    const auto oriented = [&](const D (&a)[3]) {
+    const auto oriented = [&](const D(&a)[3]) {
       return std::array<D, 3>{a[0], xsimd::select(ccw, a[2], a[1]), xsimd::select(ccw, a[1], a[2])};
     };
     const auto Zo = oriented(z);

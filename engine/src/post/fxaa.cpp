@@ -7,7 +7,8 @@
 // edge, on the line between the pixel and that neighbour, until the luma there leaves the
 // edge's average by a quarter of the gradient (an end); (5) blend towards the neighbour by
 // 0.5 - distance-to-nearer-end / edge-length when that end turns the right way, or by the
-// sub-pixel term when it is larger. Pixels outside the image repeat the border. Rows run in parallel (oneTBB).
+// sub-pixel term when it is larger. Pixels outside the image repeat the border. Rows run in
+// parallel (oneTBB).
 #include <tbb/parallel_for.h>
 
 #include <algorithm>

@@ -15,7 +15,6 @@
 #include <limits>
 #include <span>
 #include <utility>
-
 #include <xsimd/xsimd.hpp>
 
 #include "front/setup.hpp"
@@ -102,7 +101,8 @@ template <DepthTest kTest>
   if constexpr (kTest == DepthTest::kLess) return tlo >= bz_max ? -1 : (thi < bz_min ? 1 : 0);
   if constexpr (kTest == DepthTest::kLessEqual) return tlo > bz_max ? -1 : (thi <= bz_min ? 1 : 0);
   if constexpr (kTest == DepthTest::kGreater) return thi <= bz_min ? -1 : (tlo > bz_max ? 1 : 0);
-  if constexpr (kTest == DepthTest::kGreaterEqual) return thi < bz_min ? -1 : (tlo >= bz_max ? 1 : 0);
+  if constexpr (kTest == DepthTest::kGreaterEqual)
+    return thi < bz_min ? -1 : (tlo >= bz_max ? 1 : 0);
   return 1;
 }
 
@@ -111,8 +111,8 @@ template <DepthTest kTest>
 /// an old one the test kept because it was nearer. `all_covered`: the triangle covered every
 /// sample of the block; `all_written`: it wrote every one.
 template <DepthTest kTest>
-[[gnu::always_inline]] inline void update_block_bounds(float& zmn, float& zmx, float blo, float bhi, bool all_covered,
-                         bool all_written) {
+[[gnu::always_inline]] inline void update_block_bounds(float& zmn, float& zmx, float blo, float bhi,
+                                                       bool all_covered, bool all_written) {
   if constexpr (kTest == DepthTest::kLess || kTest == DepthTest::kLessEqual) {
     zmn = all_written ? blo : std::min(zmn, blo);
     if (all_covered) zmx = std::min(zmx, bhi);  // kept depths were nearer: below bhi

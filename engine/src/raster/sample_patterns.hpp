@@ -22,18 +22,36 @@ inline constexpr std::array<SampleOffset, 1> kPattern1{{{0, 0}}};
 inline constexpr std::array<SampleOffset, 4> kPattern4{{{-2, -6}, {6, -2}, {-6, 2}, {2, 6}}};
 inline constexpr std::array<SampleOffset, 8> kPattern8{
     {{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}}};
-inline constexpr std::array<SampleOffset, 16> kPattern16{
-    {{1, 1}, {-1, -3}, {-3, 2}, {4, -1}, {-5, -2}, {2, 5}, {5, 3}, {3, -5},
-     {-2, 6}, {0, -7}, {-4, -6}, {-6, 4}, {-8, 0}, {7, -4}, {6, 7}, {-7, -8}}};
+inline constexpr std::array<SampleOffset, 16> kPattern16{{{1, 1},
+                                                          {-1, -3},
+                                                          {-3, 2},
+                                                          {4, -1},
+                                                          {-5, -2},
+                                                          {2, 5},
+                                                          {5, 3},
+                                                          {3, -5},
+                                                          {-2, 6},
+                                                          {0, -7},
+                                                          {-4, -6},
+                                                          {-6, 4},
+                                                          {-8, 0},
+                                                          {7, -4},
+                                                          {6, 7},
+                                                          {-7, -8}}};
 
 /// The pattern for a sample count of 1, 4, 8 or 16 (anything else: empty span).
 constexpr std::span<const SampleOffset> sample_pattern(int samples) {
   switch (samples) {
-    case 1: return kPattern1;
-    case 4: return kPattern4;
-    case 8: return kPattern8;
-    case 16: return kPattern16;
-    default: return {};
+    case 1:
+      return kPattern1;
+    case 4:
+      return kPattern4;
+    case 8:
+      return kPattern8;
+    case 16:
+      return kPattern16;
+    default:
+      return {};
   }
 }
 

@@ -61,7 +61,7 @@ struct BinRun {
   const front::TriangleSetup* tris = nullptr;
   std::span<const std::uint32_t> indices;
   const front::Plane* planes = nullptr;  ///< the chunk's planes (TriangleSetup::planes_base)
-  std::uint32_t draw = kMixedDraws;       ///< the draw of every triangle in the run
+  std::uint32_t draw = kMixedDraws;      ///< the draw of every triangle in the run
 };
 
 /// Frame-wide, read-only inputs of every tile.
@@ -78,9 +78,9 @@ struct TileFrame {
   Rgba8 clear_color;
   float clear_depth = 1.0f;
   int width = 0, height = 0;
-  Rgba8* image = nullptr;          ///< resolved output, row-major, width × height
-  float* sample_depth = nullptr;   ///< optional per-sample output ((y*W+x)*S+s)
-  Rgba8* sample_color = nullptr;   ///< optional per-sample output
+  Rgba8* image = nullptr;         ///< resolved output, row-major, width × height
+  float* sample_depth = nullptr;  ///< optional per-sample output ((y*W+x)*S+s)
+  Rgba8* sample_color = nullptr;  ///< optional per-sample output
   /// The buffers the frame uses. Without colour (every draw depth-only, no sample colour kept)
   /// the tile neither clears nor resolves colour and `image` is left alone; without depth (no
   /// draw tests or writes it) the tile never clears it, and the depth outputs get clear_depth.
@@ -112,7 +112,8 @@ struct TileScratch {
   struct Free {
     void operator()(void* p) const { std::free(p); }
   };
-  static constexpr std::size_t kValues = std::size_t{kMaxBlocksPerTile} * kMaxSamples * kBlockPixels;
+  static constexpr std::size_t kValues =
+      std::size_t{kMaxBlocksPerTile} * kMaxSamples * kBlockPixels;
   std::unique_ptr<std::uint32_t[], Free> color{
       static_cast<std::uint32_t*>(std::aligned_alloc(64, kValues * sizeof(std::uint32_t)))};
   std::unique_ptr<float[], Free> depth{

@@ -29,16 +29,15 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
-#include <tuple>
-#include <utility>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
-
+#include <tuple>
+#include <utility>
 #include <xsimd/xsimd.hpp>
 
 #include "raster/hiz.hpp"
@@ -108,7 +107,7 @@ struct TileKernelImpl {
     /// corner + sxy[k] equals the reference's (corner + col) + ox[s] bit for bit; the depth loop
     /// then needs neither s nor v, only the vector's index k.
     F sx[kMaxSamples * kVectors], sy[kMaxSamples * kVectors];
-    std::int64_t soff[2][kMaxSamples];    ///< sample offset from the pixel corner, in 16.8
+    std::int64_t soff[2][kMaxSamples];  ///< sample offset from the pixel corner, in 16.8
   };
 
   using TriangleFn = void (*)(Context&, const front::TriangleSetup&);
@@ -202,8 +201,10 @@ struct TileKernelImpl {
     const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
     const int y_lo = std::max(t.by0, tile.y0), y_hi = std::min(t.by1, tile.y0 + tile.height);
     if (x_lo >= x_hi || y_lo >= y_hi) return;
-    const int bxb = (x_lo - tile.x0) / kBlockSize, bxe = (x_hi - tile.x0 + kBlockSize - 1) / kBlockSize;
-    const int byb = (y_lo - tile.y0) / kBlockSize, bye = (y_hi - tile.y0 + kBlockSize - 1) / kBlockSize;
+    const int bxb = (x_lo - tile.x0) / kBlockSize,
+              bxe = (x_hi - tile.x0 + kBlockSize - 1) / kBlockSize;
+    const int byb = (y_lo - tile.y0) / kBlockSize,
+              bye = (y_hi - tile.y0 + kBlockSize - 1) / kBlockSize;
 
     // Hierarchical z over the whole tile first: a triangle hidden behind every block the tile
     // has is dropped without visiting one (the common case under heavy overdraw).
@@ -223,7 +224,8 @@ struct TileKernelImpl {
       }
       if (hidden) {
         for (int by = byb; by < bye; ++by)
-          for (int bx = bxb; bx < bxe; ++bx) cx.st.blocks_hiz_rejected += cx.valid[by * cx.side + bx] != 0;
+          for (int bx = bxb; bx < bxe; ++bx)
+            cx.st.blocks_hiz_rejected += cx.valid[by * cx.side + bx] != 0;
         return;
       }
     }
@@ -413,7 +415,7 @@ struct TileKernelImpl {
                 if (!(shaded & (1u << v))) {
                   pixel_color[v] =
                       Sh::interpolate(t, color_planes.data(), fx_blk + cx.ln.colf[v] + F(0.5f),
-                                  fy_row + cx.ln.rowf[v] + F(0.5f));
+                                      fy_row + cx.ln.rowf[v] + F(0.5f));
                   shaded |= 1u << v;
                 }
                 color = pixel_color[v];
@@ -522,7 +524,6 @@ struct TileKernelImpl {
     cx.tile_z_loose = false;
   }
 
-
   // Coverage of one sample of a block whose edge values could leave int32 (edges longer than
   // about 2048 px), in double lanes: every value is an integer below 2^50 in magnitude (the edge
   // budget of front/fixed_point.hpp is 2^49, a block's offsets 2^36), so each conversion and sum
@@ -617,8 +618,8 @@ struct TileKernelImpl {
   // The box filter of every pixel, into the image (resolve/resolve_simd.hpp).
   static void resolve_color(Context& cx) {
     const TileFrame& f = cx.f;
-    resolve::ResolveSimd<A>::box_tile(cx.sc.color.get(), cx.side, f.samples, cx.tile, cx.sc.resolved,
-                                      f.image, f.width);
+    resolve::ResolveSimd<A>::box_tile(cx.sc.color.get(), cx.side, f.samples, cx.tile,
+                                      cx.sc.resolved, f.image, f.width);
   }
 
   static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,
@@ -715,7 +716,8 @@ struct TileKernelImpl {
     const auto r0 = std::chrono::steady_clock::now();
     resolve_tile(cx);
     st.resolve_ns += static_cast<std::uint64_t>(
-        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - r0).count());
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - r0)
+            .count());
   }
 
   static constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {  // d > 0
@@ -725,7 +727,7 @@ struct TileKernelImpl {
     return n >= 0 ? (n + d - 1) / d : -((-n) / d);
   }
 
-  static constexpr std::int64_t kSubpixel = 256;         ///< one pixel in 16.8 units
+  static constexpr std::int64_t kSubpixel = 256;  ///< one pixel in 16.8 units
   /// Triangles prefetched ahead: one is ~2000 instructions of work, enough to hide a miss to
   /// L3. Measured (random-small, depth-only 1x, AVX-512, raster stage): no prefetch 32.9 ms, 1 or 2
   /// ahead 24.5 ms, 6 ahead 31 ms.
@@ -741,7 +743,7 @@ struct TileKernelImpl {
   /// Bytes of an interpolated triangle's q and colour planes, prefetched with the next triangle.
   static constexpr int kColorPlaneBytes =
       static_cast<int>(front::kColorPlanes * sizeof(front::Plane));
-  static constexpr std::int64_t kHalf = 128;             ///< half a pixel: the pixel centre
+  static constexpr std::int64_t kHalf = 128;  ///< half a pixel: the pixel centre
   static constexpr std::int64_t kBlockSpan = kBlockSize * kSubpixel;  ///< a block's width in 16.8
 };
 

@@ -54,9 +54,8 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
   std::vector<front::Plane> planes;
   std::vector<front::TriangleSetup> tris = setup_frame(frame, W, H, stats, &planes);
   // The fast path's binner culls these too; the counters of both paths agree.
-  const auto no_sample = std::remove_if(tris.begin(), tris.end(), [&](const auto& t) {
-    return bin::covers_no_sample(t, pattern);
-  });
+  const auto no_sample = std::remove_if(
+      tris.begin(), tris.end(), [&](const auto& t) { return bin::covers_no_sample(t, pattern); });
   stats.triangles_no_sample = static_cast<std::uint64_t>(tris.end() - no_sample);
   stats.triangles_drawn -= stats.triangles_no_sample;
   tris.erase(no_sample, tris.end());

@@ -1,14 +1,14 @@
 // resolve/resolve_simd.hpp — the box resolve in SIMD lanes, run by each tile while its samples
 // are in cache; the same integer arithmetic as resolve::box_mean() (resolve/resolve.hpp).
 //
-// Takes: a tile's sample colours in the tile kernels' layout. Gives: the tile's pixels in the image.
+// Takes: a tile's sample colours in the tile kernels' layout. Gives: the tile's pixels in the
+// image.
 #pragma once
 
 #include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-
 #include <xsimd/xsimd.hpp>
 
 #include "mosaic/types.hpp"
@@ -72,9 +72,9 @@ struct ResolveSimd {
     }
     for (int y = 0; y < tile.height; ++y) {
       // Rgba8 is four bytes in r, g, b, a order, the little-endian layout of the packed words.
-      std::memcpy(static_cast<void*>(image + static_cast<std::size_t>(tile.y0 + y) * image_width +
-                                     tile.x0),
-                  resolved + y * kMaxTileSize, sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
+      std::memcpy(
+          static_cast<void*>(image + static_cast<std::size_t>(tile.y0 + y) * image_width + tile.x0),
+          resolved + y * kMaxTileSize, sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
     }
   }
 };

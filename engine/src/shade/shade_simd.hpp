@@ -10,7 +10,6 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
-
 #include <xsimd/xsimd.hpp>
 
 #include "front/setup.hpp"
@@ -51,7 +50,9 @@ struct ShadeSimd {
     return xsimd::select(m < F(hi), m, F(hi));
   }
   // to_unorm8() of front/setup.hpp: clamp, add one half, truncate.
-  [[gnu::always_inline]] static I unorm8(F v) { return xsimd::to_int(clamp(v, 0.0f, 255.0f) + F(0.5f)); }
+  [[gnu::always_inline]] static I unorm8(F v) {
+    return xsimd::to_int(clamp(v, 0.0f, 255.0f) + F(0.5f));
+  }
 
   // front::shade(), lane-wise: packed RGBA8 at positions (x, y).
   // `planes` is the chunk's plane array.
@@ -60,7 +61,8 @@ struct ShadeSimd {
     return interpolate(t, planes + t.planes_base, x, y);
   }
   // The interpolated colour of a triangle whose q and colour·q planes are p[0 .. kColorPlanes).
-  [[gnu::always_inline]] static I interpolate(const front::TriangleSetup& t, const front::Plane* p, F x, F y) {
+  [[gnu::always_inline]] static I interpolate(const front::TriangleSetup& t, const front::Plane* p,
+                                              F x, F y) {
     const F q = plane(p[0], t.x0, t.y0, x, y);
     const I r = unorm8(plane(p[1], t.x0, t.y0, x, y) / q);
     const I g = unorm8(plane(p[2], t.x0, t.y0, x, y) / q);
@@ -68,7 +70,6 @@ struct ShadeSimd {
     const I a = unorm8(plane(p[4], t.x0, t.y0, x, y) / q);
     return r | (g << 8) | (b << 16) | (a << 24);
   }
-
 
   /// Vectors per shader batch, and shader batches per block.
   static constexpr int kBatchVectors = kShaderBatch / L;

@@ -550,8 +550,8 @@ CheckResult check_case(const StressCase& c, const CheckOptions& options) {
     Renderer reference(RendererOptions{1, Isa::kReference});
     Renderer fast(RendererOptions{options.threads, options.isa});
     Renderer other(RendererOptions{.threads = options.other_threads,
-                                 .isa = options.isa,
-                                 .tile_size = options.other_tile_size});
+                                   .isa = options.isa,
+                                   .tile_size = options.other_tile_size});
     const Image ref = render(c.mesh, c.width, c.height, c.samples, reference);
     const Image fst = render(c.mesh, c.width, c.height, c.samples, fast);
     if (const std::string d = difference(ref, fst); !d.empty())
@@ -650,9 +650,8 @@ std::vector<Triangle> reduce_failure(const StressCase& c, const CheckResult& fai
   };
   Renderer reference(RendererOptions{1, Isa::kReference});
   Renderer fast(RendererOptions{options.threads, options.isa});
-  Renderer other(RendererOptions{.threads = options.other_threads,
-                                 .isa = options.isa,
-                                 .tile_size = options.other_tile_size});
+  Renderer other(RendererOptions{
+      .threads = options.other_threads, .isa = options.isa, .tile_size = options.other_tile_size});
   std::function<bool(const std::vector<std::size_t>&)> fails;
   const DrawState state = c.mesh.state;
   auto image = [&](const std::vector<std::size_t>& idx, Renderer& r) {

@@ -65,7 +65,7 @@ struct CheckOptions {
   /// The tile size of that second render (the first uses the renderer's choice): small tiles put
   /// tile edges through most triangles, where binning and the kernels' clipping to the tile work.
   int other_tile_size = 16;
-  Isa isa = Isa::kAuto;   ///< the fast path checked against the reference
+  Isa isa = Isa::kAuto;  ///< the fast path checked against the reference
 };
 
 /// The outcome of a check; `message` is one line naming the failure.
