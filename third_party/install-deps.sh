@@ -22,6 +22,7 @@ packages=(
   libfftw3-dev          # FFTW: spectra and aliasing energy in `mosaic report`
   libgmp-dev            # GMP rationals: exact triangle-pixel areas, the ground truth of `mosaic report`
   clang-14              # .ci/fuzz.sh: libFuzzer needs clang (GCC has no -fsanitize=fuzzer)
+  clang-format-14       # .ci/format.sh: the sources follow .clang-format
   libclang-rt-14-dev    # clang's runtime libraries: libFuzzer, ASan and UBSan for clang-14
 )
 
