@@ -263,7 +263,7 @@ struct StageRig {
         chunks[i].planes.clear();
         mosaic::front::FrontStats fs;
         front_end(draws[j.draw], j.draw, j.begin, j.end, scene.width, scene.height, chunks[i].tris,
-                  fs, &chunks[i].planes);
+                  fs, &chunks[i].planes, static_cast<int>(pattern.size()));
       });
     });
   }

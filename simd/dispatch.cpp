@@ -13,13 +13,13 @@ void tile_kernel_avx512(const raster::TileFrame&, const raster::TileRect&,
 // Defined in front_*.cpp, each compiled with its own -m flags.
 void front_end_sse41(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
                      std::vector<front::TriangleSetup>&, front::FrontStats&,
-                     std::vector<front::Plane>*);
+                     std::vector<front::Plane>*, int);
 void front_end_avx2(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
                     std::vector<front::TriangleSetup>&, front::FrontStats&,
-                    std::vector<front::Plane>*);
+                    std::vector<front::Plane>*, int);
 void front_end_avx512(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
                       std::vector<front::TriangleSetup>&, front::FrontStats&,
-                      std::vector<front::Plane>*);
+                      std::vector<front::Plane>*, int);
 
 namespace {
 

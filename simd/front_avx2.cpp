@@ -7,9 +7,9 @@ namespace mosaic::simd {
 void front_end_avx2(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                     std::uint32_t end, int width, int height,
                     std::vector<front::TriangleSetup>& out, front::FrontStats& stats,
-                    std::vector<front::Plane>* planes) {
+                    std::vector<front::Plane>* planes, int samples) {
   front::FrontEndSimd<xsimd::avx2>::run(draw, draw_index, begin, end, width, height, out, stats,
-                                        planes);
+                                        planes, samples);
 }
 
 }  // namespace mosaic::simd

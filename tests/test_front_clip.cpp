@@ -119,7 +119,7 @@ void expect_within_budget(const std::vector<glm::vec4>& positions, Space space) 
   Frame f;
   f.draws = std::span<const Draw>(&d, 1);
   FrameStats stats;
-  const std::vector<front::TriangleSetup> tris = reference::setup_frame(f, 24, 16, stats);
+  const std::vector<front::TriangleSetup> tris = reference::setup_frame(f, 24, 16, 0, stats);
   for (const front::TriangleSetup& t : tris) {
     for (const front::EdgeFunction& e : t.edge) {
       ASSERT_LE(std::abs(e.a), kMaxCoefficient);

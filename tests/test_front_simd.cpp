@@ -72,10 +72,11 @@ struct Output {
 // Runs `fe` on [begin, end) after a prefix already in the outputs (a chunk's vectors are reused,
 // and planes_base counts from what is there).
 Output run(front::FrontEnd fe, const Draw& d, std::uint32_t begin, std::uint32_t end,
-           bool with_planes) {
+           bool with_planes, int samples) {
   Output o;
   o.planes.resize(3);
-  fe(d, 7, begin, end, kWidth, kHeight, o.tris, o.stats, with_planes ? &o.planes : nullptr);
+  fe(d, 7, begin, end, kWidth, kHeight, o.tris, o.stats, with_planes ? &o.planes : nullptr,
+     samples);
   return o;
 }
 
@@ -90,11 +91,14 @@ void expect_same_into(const Draw& d, front::FrontStats& whole) {
     const front::FrontEnd fe = simd::front_end(isa);
     ASSERT_NE(fe, nullptr);
     for (const auto& [b, e] : ranges) {
-      for (bool with_planes : {true, false}) {
-        SCOPED_TRACE(testing::Message()
-                     << "range [" << b << ", " << e << ") planes " << with_planes);
-        const Output want = run(&front::run_front_end, d, b, e, with_planes);
-        const Output got = run(fe, d, b, e, with_planes);
+      // Sample count 0 culls no box; 1, 4 and 16 cull those that hold none of their positions.
+      for (const auto& [with_planes, samples] :
+           {std::pair{true, 0}, std::pair{false, 0}, std::pair{true, 1}, std::pair{true, 4},
+            std::pair{false, 16}}) {
+        SCOPED_TRACE(testing::Message() << "range [" << b << ", " << e << ") planes " << with_planes
+                                        << " samples " << samples);
+        const Output want = run(&front::run_front_end, d, b, e, with_planes, samples);
+        const Output got = run(fe, d, b, e, with_planes, samples);
         EXPECT_EQ(got.stats.in, want.stats.in);
         EXPECT_EQ(got.stats.nonfinite, want.stats.nonfinite);
         EXPECT_EQ(got.stats.culled_face, want.stats.culled_face);
@@ -102,13 +106,14 @@ void expect_same_into(const Draw& d, front::FrontStats& whole) {
         EXPECT_EQ(got.stats.outside, want.stats.outside);
         EXPECT_EQ(got.stats.clipped, want.stats.clipped);
         EXPECT_EQ(got.stats.drawn, want.stats.drawn);
+        EXPECT_EQ(got.stats.no_sample, want.stats.no_sample);
         ASSERT_EQ(got.tris.size(), want.tris.size());
         for (std::size_t i = 0; i < want.tris.size(); ++i)
           expect_same_setup(got.tris[i], want.tris[i], i);
         ASSERT_EQ(got.planes.size(), want.planes.size());
         for (std::size_t i = 0; i < want.planes.size(); ++i)
           expect_plane(got.planes[i], want.planes[i], "out-of-line plane", i);
-        if (b == 0 && e == n) whole = want.stats;
+        if (b == 0 && e == n && samples == 0) whole = want.stats;
       }
     }
   }

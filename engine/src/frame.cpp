@@ -309,7 +309,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   arena->execute([&] {
     if (frame.painter) {
       chunks[0].planes.clear();
-      chunks[0].tris = reference::setup_frame(frame, W, H, stats, &chunks[0].planes);
+      chunks[0].tris = reference::setup_frame(frame, W, H, S, stats, &chunks[0].planes);
       bin_after(0, 0, t_front, Clock::now());
     } else {
       tbb::parallel_for(std::size_t{0}, nchunks, [&](std::size_t i) {
@@ -318,15 +318,17 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
         chunks[i].tris.clear();
         chunks[i].planes.clear();
         front_end(frame.draws[j.draw], j.draw, j.begin, j.end, W, H, chunks[i].tris,
-                  front_stats.local(), &chunks[i].planes);
+                  front_stats.local(), &chunks[i].planes, S);
         bin_after(i, j.end - j.begin, c0, Clock::now());
       });
     }
   });
   front_stats.combine_each([&](const front::FrontStats& fs) { fs.add_to(stats); });
   stats.triangles_binned = binned.combine(std::plus<>());
-  stats.triangles_no_sample = no_sample.combine(std::plus<>());
-  stats.triangles_drawn -= stats.triangles_no_sample;
+  // Set-up triangles the binner culled for covering no sample (the front end counted its own).
+  const std::uint64_t binner_no_sample = no_sample.combine(std::plus<>());
+  stats.triangles_no_sample += binner_no_sample;
+  stats.triangles_drawn -= binner_no_sample;
   const auto t2 = Clock::now();
   const double setup_share = setup_thread_ms.combine(std::plus<>()),
                binning_share = binning_thread_ms.combine(std::plus<>());

@@ -12,6 +12,7 @@ FrontStats& FrontStats::operator+=(const FrontStats& o) {
   outside += o.outside;
   clipped += o.clipped;
   drawn += o.drawn;
+  no_sample += o.no_sample;
   return *this;
 }
 
@@ -23,6 +24,7 @@ void FrontStats::add_to(FrameStats& s) const {
   s.triangles_outside += outside;
   s.triangles_clipped += clipped;
   s.triangles_drawn += drawn;
+  s.triangles_no_sample += no_sample;
 }
 
 std::uint32_t triangle_count(const Draw& draw) {
@@ -51,12 +53,13 @@ bool divide(const ClipVertex& c, ScreenVertex& s) {
 
 TriangleFrontEnd::TriangleFrontEnd(const Draw& draw, std::uint32_t draw_index, int width,
                                    int height, std::vector<TriangleSetup>& out, FrontStats& stats,
-                                   std::vector<Plane>* planes)
+                                   std::vector<Plane>* planes, int samples)
     : fetch(draw, width, height),
       shader(static_cast<bool>(draw.shader)),
       // A shader colours the draw: vertex colours are not set up.
       per_vertex(!shader && draw.color_source == ColorSource::kPerVertex),
       nvary(shader && planes ? static_cast<int>(draw.varyings.size()) : 0),
+      spots(SampleSpots::of(samples)),
       draw_(draw),
       draw_index_(draw_index),
       width_(width),
@@ -125,15 +128,17 @@ void TriangleFrontEnd::run(std::uint32_t t) {
   // submitted triangles: a polygon none of whose pieces is drawn counts once, face culling
   // first (every piece has the polygon's winding); a piece rejected beside drawn ones is a
   // sliver or an off-screen part of a drawn triangle and is not counted.
-  bool any_drawn = false, any_face = false, any_outside = false;
+  bool any_drawn = false, any_face = false, any_outside = false, any_no_sample = false;
   for (int k = 1; k + 1 < poly.count; ++k) {
     TriangleSetup ts;
     PlaneBasis basis;
     const std::array<ScreenVertex, 3> tri{sv[0], sv[k], sv[k + 1]};
-    const SetupReject why = setup_triangle(tri, draw.state, width, height, per_vertex, flat, ts,
-                                           planes_, nvary > 0 || sort_keys ? &basis : nullptr);
+    const SetupReject why =
+        setup_triangle(tri, draw.state, width, height, per_vertex, flat, ts, planes_,
+                       nvary > 0 || sort_keys ? &basis : nullptr, spots.count ? &spots : nullptr);
     any_face = any_face || why == SetupReject::kFace;
     any_outside = any_outside || why == SetupReject::kOutside;
+    any_no_sample = any_no_sample || why == SetupReject::kNoSample;
     if (why != SetupReject::kNone) continue;
     if (shader && planes_)
       setup_varyings(tri, basis,
@@ -150,6 +155,8 @@ void TriangleFrontEnd::run(std::uint32_t t) {
     ++stats.culled_face;
   } else if (any_outside) {
     ++stats.outside;
+  } else if (any_no_sample) {
+    ++stats.no_sample;
   } else {
     ++stats.degenerate;
   }
@@ -157,8 +164,8 @@ void TriangleFrontEnd::run(std::uint32_t t) {
 
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                   FrontStats& stats, std::vector<Plane>* planes) {
-  TriangleFrontEnd front(draw, draw_index, width, height, out, stats, planes);
+                   FrontStats& stats, std::vector<Plane>* planes, int samples) {
+  TriangleFrontEnd front(draw, draw_index, width, height, out, stats, planes, samples);
   for (std::uint32_t t = begin; t < end; ++t) front.run(t);
 }
 

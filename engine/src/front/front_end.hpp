@@ -24,6 +24,7 @@ namespace mosaic::front {
 struct FrontStats {
   std::uint64_t in = 0, nonfinite = 0, culled_face = 0, degenerate = 0, outside = 0, clipped = 0,
                 drawn = 0;
+  std::uint64_t no_sample = 0;  ///< culled: the box holds no sample position (SetupReject)
   FrontStats& operator+=(const FrontStats& o);
   void add_to(FrameStats& s) const;
 };
@@ -37,14 +38,16 @@ std::uint32_t triangle_count(const Draw& draw);
 /// `planes` none are set up (the occlusion queries need depth only; front/setup.hpp says what
 /// the triangles get instead). This is the scalar front end: the oracle, and the
 /// fallback of the SIMD one (front/setup_simd.hpp), which gives the same output.
+/// `samples`: the frame's sample count, whose pattern culls triangles whose box holds no sample
+/// position (0: no such cull, as the occlusion queries ask).
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                   FrontStats& stats, std::vector<Plane>* planes = nullptr);
+                   FrontStats& stats, std::vector<Plane>* planes = nullptr, int samples = 0);
 
 /// A front end with run_front_end()'s signature: the scalar one or a SIMD one (simd/dispatch.hpp).
 using FrontEnd = void (*)(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                           std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                          FrontStats& stats, std::vector<Plane>* planes);
+                          FrontStats& stats, std::vector<Plane>* planes, int samples);
 
 /// Vertex fetch: a draw's vertex in window-homogeneous space (pixel x = X / W).
 struct VertexFetch {
@@ -104,15 +107,17 @@ struct VertexFetch {
 class TriangleFrontEnd {
  public:
   TriangleFrontEnd(const Draw& draw, std::uint32_t draw_index, int width, int height,
-                   std::vector<TriangleSetup>& out, FrontStats& stats, std::vector<Plane>* planes);
+                   std::vector<TriangleSetup>& out, FrontStats& stats, std::vector<Plane>* planes,
+                   int samples = 0);
 
   /// Runs triangle `t` of the draw: appends its setups to `out`, counts it in `stats`.
   void run(std::uint32_t t);
 
   const VertexFetch fetch;
-  const bool shader;      ///< the draw has a shader
-  const bool per_vertex;  ///< vertex colours are set up (a shader colours the draw itself)
-  const int nvary;        ///< varyings set up per triangle
+  const bool shader;        ///< the draw has a shader
+  const bool per_vertex;    ///< vertex colours are set up (a shader colours the draw itself)
+  const int nvary;          ///< varyings set up per triangle
+  const SampleSpots spots;  ///< the frame's sample positions, for setup's cull (count 0: none)
   /// When set, gets each appended setup's sort_depth() (front/setup.hpp), in `out`'s order: the
   /// painter's path sorts by it (reference::setup_frame()).
   std::vector<float>* sort_keys = nullptr;

@@ -54,7 +54,8 @@ Rgba8 shade(const TriangleSetup& t, const Plane* planes, float x, float y) {
 
 SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state, int width,
                            int height, bool per_vertex_color, Rgba8 flat_color, TriangleSetup& out,
-                           std::vector<Plane>* planes, PlaneBasis* basis) {
+                           std::vector<Plane>* planes, PlaneBasis* basis,
+                           const SampleSpots* spots) {
   std::array<FixedPoint, 3> p;
   for (int i = 0; i < 3; ++i) p[i] = {snap(v[i].x), snap(v[i].y)};
 
@@ -100,6 +101,9 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
   out.bx1 = std::min(width, (maxx >> kSubpixelBits) + 1);
   out.by1 = std::min(height, (maxy >> kSubpixelBits) + 1);
   if (out.bx0 >= out.bx1 || out.by0 >= out.by1) return SetupReject::kOutside;
+  if (spots &&
+      !box_holds_sample(*spots, minx, maxx, miny, maxy, out.bx0, out.bx1, out.by0, out.by1))
+    return SetupReject::kNoSample;
 
   std::array<double, 3> X, Y, Z, Q;
   for (int i = 0; i < 3; ++i) {

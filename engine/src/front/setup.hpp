@@ -7,6 +7,7 @@
 // they round depth and colour identically.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -18,6 +19,7 @@
 #include "front/fixed_point.hpp"
 #include "mosaic/draw.hpp"
 #include "mosaic/types.hpp"
+#include "raster/sample_patterns.hpp"
 
 namespace mosaic::front {
 
@@ -129,7 +131,39 @@ inline std::uint8_t to_unorm8(float v) {
 }
 
 /// Why setup produced no triangle.
-enum class SetupReject { kNone, kFace, kDegenerate, kOutside };
+enum class SetupReject { kNone, kFace, kDegenerate, kOutside, kNoSample };
+
+/// A pixel's sample positions from its corner in 16.8 units (raster::sample_x_fixed(0, o)), for
+/// setup's cull of triangles whose box holds no sample position; `count` 0 culls nothing.
+struct SampleSpots {
+  int count = 0;
+  std::array<std::int32_t, 16> x{}, y{};
+  /// The spots of the standard pattern of `samples` samples (0: none).
+  static SampleSpots of(int samples) {
+    SampleSpots sp;
+    for (const raster::SampleOffset o : raster::sample_pattern(samples)) {
+      sp.x[sp.count] = static_cast<std::int32_t>(raster::sample_x_fixed(0, o));
+      sp.y[sp.count++] = static_cast<std::int32_t>(raster::sample_y_fixed(0, o));
+    }
+    return sp;
+  }
+};
+
+/// Whether some sample position of `sp` lies in the closed box [minx, maxx] × [miny, maxy] (16.8)
+/// within the pixels [bx0, bx1) × [by0, by1): sample s of column px is at px * 256 + x[s], so the
+/// columns holding one in range are ceil((minx - x[s]) / 256) .. floor((maxx - x[s]) / 256).
+inline bool box_holds_sample(const SampleSpots& sp, std::int32_t minx, std::int32_t maxx,
+                             std::int32_t miny, std::int32_t maxy, int bx0, int bx1, int by0,
+                             int by1) {
+  for (int s = 0; s < sp.count; ++s) {
+    const int cx0 = std::max(bx0, -((sp.x[s] - minx) >> kSubpixelBits));
+    const int cx1 = std::min(bx1 - 1, (maxx - sp.x[s]) >> kSubpixelBits);
+    const int cy0 = std::max(by0, -((sp.y[s] - miny) >> kSubpixelBits));
+    const int cy1 = std::min(by1 - 1, (maxy - sp.y[s]) >> kSubpixelBits);
+    if (cx0 <= cx1 && cy0 <= cy1) return true;
+  }
+  return false;
+}
 
 /// Rounds a pixel coordinate to 16.8, to nearest, a tie going up (towards +infinity) so that a
 /// shape moved by whole pixels snaps to the same shape. |x| is at most kGuardBandPx after clipping;
@@ -141,10 +175,12 @@ std::int32_t snap(double px);
 /// kColorPlanes planes to `planes`; without `planes` (callers that use only coverage and depth)
 /// none are set up, and the triangle gets its first vertex's colour, as one whose planes overflow
 /// float does. `basis`, when given, receives the corners the planes were built on (for
-/// setup_varyings() and sort_depth()).
+/// setup_varyings() and sort_depth()). With `spots`, a triangle whose box holds none of them is
+/// rejected (kNoSample) before its planes are built.
 SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state, int width,
                            int height, bool per_vertex_color, Rgba8 flat_color, TriangleSetup& out,
-                           std::vector<Plane>* planes = nullptr, PlaneBasis* basis = nullptr);
+                           std::vector<Plane>* planes = nullptr, PlaneBasis* basis = nullptr,
+                           const SampleSpots* spots = nullptr);
 
 /// The painter's algorithm's key of a set-up triangle: its mean vertex depth, summed in the
 /// oriented order. Not stored in TriangleSetup: only the painter's path needs it.

@@ -53,9 +53,9 @@ struct FrontEndSimd {
   /// What the lanes computed, for the scalar store into TriangleSetup.
   struct Results {
     /// What became of each lane's triangle, one bit per lane, in the order the scalar code tests:
-    /// left to the scalar code, culled by clipping or an empty box (outside), by its facing, or
-    /// of zero area; the lanes in none of these are drawn.
-    std::uint32_t scalar, outside, face, degenerate;
+    /// left to the scalar code, culled by clipping or an empty box (outside), by its facing, of
+    /// zero area, or for a box that holds no sample position; the lanes in none of these are drawn.
+    std::uint32_t scalar, outside, face, degenerate, no_sample;
     std::uint32_t interpolated;  ///< drawn with differing vertex colours: the planes below are set
     alignas(64) double ea[3][N], eb[3][N], ec[3][N];  ///< edge coefficients (integers)
     alignas(64) double bx0[N], by0[N], bx1[N], by1[N];
@@ -146,7 +146,7 @@ struct FrontEndSimd {
 
   /// clip_triangle()'s classification, the perspective divide and setup_triangle(), in lanes.
   static void setup(const Vertices& v, const VertexFetch& fetch, int width, int height,
-                    bool per_vertex, Results& r) {
+                    bool per_vertex, const SampleSpots& spots, Results& r) {
     const DrawState& state = fetch.draw.state;
     constexpr double kGuard = kGuardBandPx;
     const D w(static_cast<double>(width)), h(static_cast<double>(height));
@@ -226,11 +226,28 @@ struct FrontEndSimd {
 
     // The pixel box: floor(v / 256) is the scalar arithmetic shift, exact in double.
     constexpr double kPxPerUnit = 1.0 / kSubpixelOne;
-    const D bx0 = xsimd::max(D(0.0), xsimd::floor(min3(px[0], px[1], px[2]) * D(kPxPerUnit)));
-    const D by0 = xsimd::max(D(0.0), xsimd::floor(min3(py[0], py[1], py[2]) * D(kPxPerUnit)));
-    const D bx1 = xsimd::min(w, xsimd::floor(max3(px[0], px[1], px[2]) * D(kPxPerUnit)) + D(1.0));
-    const D by1 = xsimd::min(h, xsimd::floor(max3(py[0], py[1], py[2]) * D(kPxPerUnit)) + D(1.0));
+    const D minx = min3(px[0], px[1], px[2]), maxx = max3(px[0], px[1], px[2]);
+    const D miny = min3(py[0], py[1], py[2]), maxy = max3(py[0], py[1], py[2]);
+    const D bx0 = xsimd::max(D(0.0), xsimd::floor(minx * D(kPxPerUnit)));
+    const D by0 = xsimd::max(D(0.0), xsimd::floor(miny * D(kPxPerUnit)));
+    const D bx1 = xsimd::min(w, xsimd::floor(maxx * D(kPxPerUnit)) + D(1.0));
+    const D by1 = xsimd::min(h, xsimd::floor(maxy * D(kPxPerUnit)) + D(1.0));
     const B box_empty = bx0 >= bx1 || by0 >= by1;
+    // box_holds_sample() of setup.hpp in lanes (the divisions by 256 are exact). A box at least
+    // a pixel wide and tall that the target does not cut holds every sample position: when all
+    // lanes' boxes are such, the answer is known without the loop (the same answer).
+    const D kUnit(kSubpixelOne);
+    const B whole = maxx - minx >= kUnit && maxy - miny >= kUnit && minx >= D(0.0) &&
+                    miny >= D(0.0) && maxx < w * kUnit && maxy < h * kUnit;
+    B holds(spots.count == 0 || M::bits(whole) == kAllLanes);
+    for (int s = 0; s < spots.count && M::bits(holds) != kAllLanes; ++s) {
+      const D sx(static_cast<double>(spots.x[s])), sy(static_cast<double>(spots.y[s]));
+      const D cx0 = xsimd::max(bx0, xsimd::ceil((minx - sx) * D(kPxPerUnit)));
+      const D cx1 = xsimd::min(bx1 - D(1.0), xsimd::floor((maxx - sx) * D(kPxPerUnit)));
+      const D cy0 = xsimd::max(by0, xsimd::ceil((miny - sy) * D(kPxPerUnit)));
+      const D cy1 = xsimd::min(by1 - D(1.0), xsimd::floor((maxy - sy) * D(kPxPerUnit)));
+      holds = holds || (cx0 <= cx1 && cy0 <= cy1);
+    }
     bx0.store_aligned(r.bx0);
     by0.store_aligned(r.by0);
     bx1.store_aligned(r.bx1);
@@ -243,8 +260,10 @@ struct FrontEndSimd {
     r.face = M::bits(face) & ~(culled | r.degenerate);
     r.outside = (M::bits(clip_culled) & ~r.scalar) |
                 (M::bits(box_empty) & ~(culled | r.degenerate | r.face));
+    r.no_sample = M::bits(!holds) & ~(culled | r.degenerate | r.face | r.outside);
     r.interpolated = 0;
-    if ((r.scalar | r.outside | r.face | r.degenerate) == kAllLanes) return;  // nothing drawn
+    if ((r.scalar | r.outside | r.face | r.degenerate | r.no_sample) == kAllLanes)
+      return;  // nothing drawn
 
     // Planes over the oriented corners in pixels (x / 256 is exact: a power of two).
     const D Xs[3] = {ox[0] * D(kPxPerUnit), ox[1] * D(kPxPerUnit), ox[2] * D(kPxPerUnit)};
@@ -326,8 +345,8 @@ struct FrontEndSimd {
   /// run_front_end() with the common case in lanes.
   static void run(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                   std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                  FrontStats& stats, std::vector<Plane>* planes) {
-    TriangleFrontEnd scalar(draw, draw_index, width, height, out, stats, planes);
+                  FrontStats& stats, std::vector<Plane>* planes, int samples) {
+    TriangleFrontEnd scalar(draw, draw_index, width, height, out, stats, planes, samples);
     if (scalar.nvary > 0) {  // varying planes: the scalar code's, per triangle
       for (std::uint32_t t = begin; t < end; ++t) scalar.run(t);
       return;
@@ -349,7 +368,7 @@ struct FrontEndSimd {
       if (end - t0 > static_cast<std::uint32_t>(N))
         fetch(scalar, t0 + N, batch_size(t0 + N), vertices[cur ^ 1]);
       const Vertices& v = vertices[cur];
-      setup(v, scalar.fetch, width, height, scalar.per_vertex, r);
+      setup(v, scalar.fetch, width, height, scalar.per_vertex, scalar.spots, r);
       for (int l = 0; l < n; ++l) {
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l);
         const std::uint32_t bit = 1u << l;
@@ -364,6 +383,8 @@ struct FrontEndSimd {
           ++stats.culled_face;
         } else if (r.degenerate & bit) {
           ++stats.degenerate;
+        } else if (r.no_sample & bit) {
+          ++stats.no_sample;
         } else {
           const Rgba8 flat =
               draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;

@@ -14,7 +14,7 @@
 namespace mosaic::reference {
 
 std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int height,
-                                              FrameStats& stats,
+                                              int samples, FrameStats& stats,
                                               std::vector<front::Plane>* planes) {
   std::vector<front::TriangleSetup> tris;
   front::FrontStats fs;
@@ -22,7 +22,7 @@ std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int
   for (std::size_t d = 0; d < frame.draws.size(); ++d) {
     const Draw& draw = frame.draws[d];
     front::TriangleFrontEnd front(draw, static_cast<std::uint32_t>(d), width, height, tris, fs,
-                                  planes);
+                                  planes, samples);
     if (frame.painter) front.sort_keys = &keys;
     const std::uint32_t n = front::triangle_count(draw);
     for (std::uint32_t t = 0; t < n; ++t) front.run(t);
@@ -52,12 +52,13 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
   const auto pattern = raster::sample_pattern(S);
 
   std::vector<front::Plane> planes;
-  std::vector<front::TriangleSetup> tris = setup_frame(frame, W, H, stats, &planes);
+  std::vector<front::TriangleSetup> tris = setup_frame(frame, W, H, S, stats, &planes);
   // The fast path's binner culls these too; the counters of both paths agree.
   const auto no_sample = std::remove_if(
       tris.begin(), tris.end(), [&](const auto& t) { return bin::covers_no_sample(t, pattern); });
-  stats.triangles_no_sample = static_cast<std::uint64_t>(tris.end() - no_sample);
-  stats.triangles_drawn -= stats.triangles_no_sample;
+  const auto binner_no_sample = static_cast<std::uint64_t>(tris.end() - no_sample);
+  stats.triangles_no_sample += binner_no_sample;
+  stats.triangles_drawn -= binner_no_sample;
   tris.erase(no_sample, tris.end());
   std::vector<shade::DrawShading> shading;
   shade::frame_shading(frame.draws, shading);

@@ -25,9 +25,10 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
 
 /// Runs the front end over every draw in order, single-threaded; the painter's sort is applied
 /// when frame.painter is set. Shared by the reference and the tests. Varying planes of shader
-/// draws go to `planes` when given.
+/// draws go to `planes` when given. `samples`: the target's sample count, whose pattern culls
+/// triangles whose box holds no sample position (0: none culled).
 std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int height,
-                                              FrameStats& stats,
+                                              int samples, FrameStats& stats,
                                               std::vector<front::Plane>* planes = nullptr);
 
 }  // namespace mosaic::reference
