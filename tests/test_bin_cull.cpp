@@ -239,7 +239,9 @@ TEST(BinCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
     EXPECT_GT(empty_at, 0) << samples << "x";
     EXPECT_GT(empty_over, 0) << samples << "x";
     // At 4x the random tiny triangles include empty ones over the area bound (not culled).
-    if (samples == 4) EXPECT_GT(empty_large, 0);
+    if (samples == 4) {
+      EXPECT_GT(empty_large, 0);
+    }
 
     std::vector<glm::vec4> positions;
     std::vector<mosaic::Rgba8> colors;
