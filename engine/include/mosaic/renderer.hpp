@@ -57,7 +57,8 @@ struct FrameStats {
   std::uint64_t triangles_degenerate = 0;   ///< culled: zero area after snapping
   std::uint64_t triangles_outside = 0;      ///< culled: outside the viewport or depth range
   std::uint64_t triangles_clipped = 0;      ///< submitted triangles that needed clipping
-  /// culled after setup: the samples of the triangle's box (up to a few dozen) are all outside it
+  /// culled: covers no sample, exactly (its box holds no sample position, or its few candidate
+  /// samples are all outside it); not counted in triangles_drawn
   std::uint64_t triangles_no_sample = 0;
   std::uint64_t triangles_drawn = 0;      ///< triangles rasterized, after clipping and culling
   std::uint64_t triangles_binned = 0;     ///< (triangle, tile) pairs in the bins
