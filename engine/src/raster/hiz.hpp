@@ -19,6 +19,7 @@
 
 #include "front/setup.hpp"
 #include "mosaic/types.hpp"
+#include "simd/lane_types.hpp"
 
 namespace mosaic::raster {
 
@@ -127,9 +128,10 @@ template <DepthTest kTest>
 
 /// The tile kernels' bound reductions, in SIMD lanes of instruction set A.
 template <class A>
-struct HizSimd {
-  using F = xsimd::batch<float, A>;
-  static constexpr int L = static_cast<int>(F::size);
+struct HizSimd : simd::LaneTypes<A> {
+  using B = simd::LaneTypes<A>;
+  using B::L;
+  using typename B::F;
 
   /// The union of n blocks' bounds (a tile's bounds from its blocks').
   static std::pair<float, float> union_of(const float* zmin, const float* zmax, int n) {

@@ -46,23 +46,24 @@
 #include "raster/tile.hpp"
 #include "resolve/resolve_simd.hpp"
 #include "shade/shade_simd.hpp"
-#include "simd/mask.hpp"
+#include "simd/lane_types.hpp"
 
 namespace mosaic::raster {
 
 template <class A>
-struct TileKernelImpl {
-  using I = xsimd::batch<std::int32_t, A>;
-  using F = xsimd::batch<float, A>;
-  using M = simd::Mask<A>;
-  using D = xsimd::batch<double, A>;
+struct TileKernelImpl : simd::LaneTypes<A> {
+  using B = simd::LaneTypes<A>;
+  using B::kDLanes;
+  using B::kLaneBits;
+  using B::L;
+  using typename B::D;
+  using typename B::F;
+  using typename B::I;
+  using typename B::M;
   using Sh = shade::ShadeSimd<A>;
-  static constexpr int kDLanes = static_cast<int>(D::size);
   static constexpr int kDVectors =
-      kBlockPixels / kDLanes;  ///< double vectors per sample of a block
-  static constexpr int L = static_cast<int>(I::size);
+      kBlockPixels / kDLanes;                        ///< double vectors per sample of a block
   static constexpr int kVectors = kBlockPixels / L;  ///< vectors per sample of a block
-  static constexpr std::uint32_t kLaneBits = L == 32 ? 0xffffffffu : (1u << L) - 1;
   static_assert(kBlockPixels % L == 0);
   /// Vectors until the lanes' pixel columns repeat, and the rows that period advances by.
   static constexpr int kPeriod = L >= kBlockSize ? 1 : kBlockSize / L;

@@ -13,13 +13,15 @@
 
 #include "mosaic/types.hpp"
 #include "raster/tile.hpp"
+#include "simd/lane_types.hpp"
 
 namespace mosaic::resolve {
 
 template <class A>
-struct ResolveSimd {
-  using I = xsimd::batch<std::int32_t, A>;
-  static constexpr int L = static_cast<int>(I::size);
+struct ResolveSimd : simd::LaneTypes<A> {
+  using B = simd::LaneTypes<A>;
+  using B::L;
+  using typename B::I;
   static constexpr int kBlockSize = raster::kBlockSize;
   static constexpr int kBlockPixels = raster::kBlockPixels;
   static constexpr int kVectors = kBlockPixels / L;

@@ -15,18 +15,19 @@
 #include "front/setup.hpp"
 #include "raster/tile.hpp"
 #include "shade/shading.hpp"
-#include "simd/mask.hpp"
+#include "simd/lane_types.hpp"
 
 namespace mosaic::shade {
 
 template <class A>
-struct ShadeSimd {
-  using I = xsimd::batch<std::int32_t, A>;
-  using F = xsimd::batch<float, A>;
-  using M = simd::Mask<A>;
-  static constexpr int L = static_cast<int>(I::size);
+struct ShadeSimd : simd::LaneTypes<A> {
+  using B = simd::LaneTypes<A>;
+  using B::kLaneBits;
+  using B::L;
+  using typename B::F;
+  using typename B::I;
+  using typename B::M;
   static constexpr int kVectors = raster::kBlockPixels / L;  ///< vectors per sample of a block
-  static constexpr std::uint32_t kLaneBits = L == 32 ? 0xffffffffu : (1u << L) - 1;
   static constexpr int kBlockPixels = raster::kBlockPixels;
 
   /// Where a block's lanes are: each vector's pixel columns and rows (floats), each sample's
