@@ -76,12 +76,10 @@ inline glm::dvec2 sample_px(int px, int py, int s, int samples) {
   return {static_cast<double>(f.x) / kUnits, static_cast<double>(f.y) / kUnits};
 }
 
-/// Round to the nearest 1/256 px, a tie going up (towards +infinity): the specification of
-/// snapping, written without the engine's formula.
+/// Round to the nearest 1/256 px, a tie to the even step (IEEE's default rounding): the
+/// specification of snapping, written without the engine's formula.
 inline std::int64_t snap_units(double px) {
-  const double scaled = px * kUnits;
-  const double below = std::floor(scaled);
-  return static_cast<std::int64_t>(scaled - below >= 0.5 ? below + 1 : below);
+  return static_cast<std::int64_t>(std::nearbyint(px * kUnits));
 }
 inline Fx snap_fx(glm::dvec2 p) { return {snap_units(p.x), snap_units(p.y)}; }
 inline glm::dvec2 fx_to_px(Fx p) {

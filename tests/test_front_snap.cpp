@@ -1,8 +1,8 @@
 // Snapping to 16.8 fixed point (front::snap) and the viewport transform of clip-space draws.
 //
 // Expectations are derived by hand from the specification: round to the nearest 1/256 px with a
-// tie going up, and NDC [-1, 1]² mapped to [0, W] × [0, H] with y down and pixel (x, y) centred at
-// (x + 0.5, y + 0.5).
+// tie going to the even step, and NDC [-1, 1]² mapped to [0, W] × [0, H] with y down and pixel (x,
+// y) centred at (x + 0.5, y + 0.5).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -47,19 +47,25 @@ TEST(FrontSnap, ValuesBetweenStepsRoundToNearest) {
   EXPECT_EQ(front::snap(-0.003), -1);
 }
 
-TEST(FrontSnap, HalvesGoUpOnBothSidesOfZero) {
-  // A tie rounds towards +infinity, so a shape moved by whole pixels snaps to the same shape
-  // moved by whole pixels, wherever it lies (rounding half away from zero would not).
-  EXPECT_EQ(front::snap(0.5 / 256), 1);
+TEST(FrontSnap, HalvesGoToTheEvenStepOnBothSidesOfZero) {
+  // A tie rounds to the even step (IEEE's default rounding, and llvmpipe's), on either side of
+  // zero; a shape moved by whole pixels (an even number of steps) still snaps to the same shape
+  // moved by whole pixels.
+  EXPECT_EQ(front::snap(0.5 / 256), 0);
   EXPECT_EQ(front::snap(-0.5 / 256), 0);
   EXPECT_EQ(front::snap(1.5 / 256), 2);
-  EXPECT_EQ(front::snap(-1.5 / 256), -1);
+  EXPECT_EQ(front::snap(-1.5 / 256), -2);
+  EXPECT_EQ(front::snap(2.5 / 256), 2);
   EXPECT_EQ(front::snap(-2.5 / 256), -2);
+  EXPECT_EQ(front::snap(10.5 + 1.0 / 512), 10 * 256 + 128);  // 2688.5 units -> 2688
+  EXPECT_EQ(front::snap(10.5 + 3.0 / 512), 10 * 256 + 130);  // 2689.5 units -> 2690
   for (int k = -1000; k <= 1000; ++k) {
     const double half = (k + 0.5) / 256.0;  // exact in double
-    EXPECT_EQ(front::snap(half), k + 1) << k;
-    // The largest double below the tie rounds down.
+    const int even = k % 2 == 0 ? k : k + 1;
+    EXPECT_EQ(front::snap(half), even) << k;
+    // Either side of the tie rounds to its own nearest step.
     EXPECT_EQ(front::snap(std::nextafter(half, -1e9)), k) << k;
+    EXPECT_EQ(front::snap(std::nextafter(half, 1e9)), k + 1) << k;
   }
 }
 

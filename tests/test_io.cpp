@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -133,6 +134,25 @@ TEST(TrisParse, ExtremeButFiniteCoordinatesAreAccepted) {
   EXPECT_EQ(m.positions[1].x, 3.4e38f);
   EXPECT_EQ(m.positions[2].x, 0.0f);   // below float's range: rounds to zero, still finite
   EXPECT_EQ(m.positions[2].z, -2.5f);  // depth outside [0, 1] is clipped when drawn, not here
+}
+
+TEST(TrisParse, XAndYSnapFromTheirDecimalValueWithTiesToEven) {
+  // 10.501953125 is 2688.5 steps of 1/256 px, a tie: it goes to the even step, 2688 (10.5).
+  // 10.50195313 lies just above that tie, and rounds up to 2689 (10.50390625), though its
+  // nearest float is the tie itself. 10.505859375 is the tie 2689.5, which goes to 2690.
+  // Past the guard band (2^15 px) a coordinate is only rounded to float; z is never snapped.
+  const Scene s = parse_tris(
+      "size 8 8\n"
+      "tri 10.501953125 10.50195313 10.501953125  10.505859375 -10.505859375 0  "
+      "40000.3 -0.001953125 0  0 0 0 255\n");
+  const Mesh& m = s.meshes[0];
+  EXPECT_EQ(m.positions[0].x, 10.5f);
+  EXPECT_EQ(m.positions[0].y, 10.50390625f);
+  EXPECT_EQ(m.positions[0].z, 10.501953125f);
+  EXPECT_EQ(m.positions[1].x, 10.5078125f);
+  EXPECT_EQ(m.positions[1].y, -10.5078125f);
+  EXPECT_EQ(m.positions[2].x, 40000.3f);
+  EXPECT_EQ(m.positions[2].y, 0.0f);  // -1/512 is the tie -0.5, which goes to 0
 }
 
 TEST(TrisParse, FlatTriangleRendersLikeItsThreeEqualColours) {
@@ -396,8 +416,16 @@ TEST(TrisSave, WritesFourColoursForFlatAndTwelveForShadedTriangles) {
   EXPECT_EQ(tris[1].size(), 1u + 9 + 12);
   // Shortest round-trip text: 0.1f is written "0.1", not 0.10000000149011612.
   EXPECT_EQ(tris[0][1], "0.1");
+  // Read back, x and y within the guard band come snapped to 1/256 px (0.1 is 25.6 steps, 0.2 is
+  // 51.2, 1e-7 is 0); 1e30 lies past it and z is never snapped.
   const Scene r = parse_tris(text);
-  EXPECT_EQ(r.meshes[0].positions, m.positions);
+  const std::vector<glm::vec4> snapped{{26 / 256.0f, 51 / 256.0f, 0.3f, 1},
+                                       {0, -3.5f, 0, 1},
+                                       {1e30f, 7, 1, 1},
+                                       {0, 0, 0, 1},
+                                       {1, 0, 0, 1},
+                                       {0, 1, 0, 1}};
+  EXPECT_EQ(r.meshes[0].positions, snapped);
   EXPECT_EQ(r.meshes[0].colors, m.colors);
 }
 
@@ -433,6 +461,50 @@ TEST(TrisSave, ClipSpaceIsProjectedWithTheViewportTransform) {
   const std::vector<glm::vec4> expected{{50, 25, 0.5f, 1}, {75, 37.5f, 0.5f, 1}, {0, 0, 0, 1}};
   EXPECT_EQ(r.meshes[0].positions, expected);
   EXPECT_EQ(r.meshes[0].colors, std::vector<Rgba8>(3, Rgba8{7, 8, 9, 10}));
+}
+
+// A clip-space mesh, exported and read back, draws the same image bit for bit: the export writes
+// each projected coordinate as the double the front end computes, and the loader snaps that
+// double, ties to even, as the front end does. With w other than a power of two most projected
+// coordinates are not floats, and some lie within a float rounding of a tie. Flat colours:
+// per-vertex colour is interpolated with perspective in clip space and linearly in a .tris file.
+TEST(TrisSave, ClipSpaceMeshRoundTripsBitForBit) {
+  constexpr int kTriangles = 20000;
+  Scene s;
+  s.width = 96;
+  s.height = 64;
+  Mesh m;
+  m.space = Space::kClip;
+  m.color_source = ColorSource::kPerTriangle;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> ndc(-1.1f, 1.1f), zdist(0.05f, 0.95f), w(0.3f, 3.0f);
+  for (int t = 0; t < kTriangles; ++t) {
+    const float cx = ndc(rng), cy = ndc(rng);
+    for (int k = 0; k < 3; ++k) {
+      const float x = cx + ndc(rng) * 0.05f, y = cy + ndc(rng) * 0.05f, wk = w(rng);
+      m.positions.emplace_back(x * wk, y * wk, zdist(rng) * wk, wk);
+    }
+    m.colors.push_back({static_cast<std::uint8_t>(t), static_cast<std::uint8_t>(t >> 8), 90, 255});
+  }
+  s.meshes.push_back(m);
+  TempDir dir;
+  save_tris(s, dir / "m.tris");
+  const Scene r = load_tris(dir / "m.tris");
+  for (const int samples : {1, 4}) {
+    std::array<std::vector<float>, 2> depth;
+    std::array<std::uint64_t, 2> hash{};
+    for (int k = 0; k < 2; ++k) {
+      const Scene& scene = k == 0 ? s : r;
+      Renderer renderer({1, Isa::kReference});
+      RenderTarget target(scene.width, scene.height, samples, {.keep_sample_depth = true});
+      const std::vector<Draw> draws = scene.draws();
+      renderer.render(Frame{draws}, target);
+      hash[k] = target.image_hash();
+      depth[k].assign(target.sample_depth().begin(), target.sample_depth().end());
+    }
+    EXPECT_EQ(hash[0], hash[1]) << samples;
+    EXPECT_EQ(depth[0], depth[1]) << samples;
+  }
 }
 
 TEST(TrisSave, CulledTrianglesAreSkipped) {

@@ -431,14 +431,11 @@ TEST_F(LlvmpipePeer, SmoothColoursDifferByRoundingOnly) {
   }
 }
 
-// A vertex exactly half-way between two 1/256 px steps: llvmpipe snaps it to the even step
-// (its subpixel_snap is util_iround, round half to even), mosaic's front::snap to the step
-// above. The left edge of this rectangle lies at 10.5 + 1/512 px: llvmpipe snaps it to 10.5,
-// through the centres of column 10, which the left-edge rule keeps (100 pixels); mosaic to
-// 10.5 + 1/256, which leaves column 10 out (90). Only coordinates on the odd 1/512 grid are
-// affected. Disabled until the project decides which rounding .tris promises (the format says
-// "round to nearest" and leaves ties open); run it with --gtest_also_run_disabled_tests.
-TEST_F(LlvmpipePeer, DISABLED_SnapTiesRoundLikeLlvmpipe) {
+// A vertex exactly half-way between two 1/256 px steps snaps to the even step on both sides
+// (llvmpipe's subpixel_snap is util_iround, round half to even). The left edge of this rectangle
+// lies at 10.5 + 1/512 px and snaps to 10.5, through the centres of column 10, which the left-edge
+// rule keeps (100 pixels); rounding the tie up would give 10.5 + 1/256 and leave column 10 out.
+TEST_F(LlvmpipePeer, SnapTiesRoundLikeLlvmpipe) {
   const float l = 10.5f + 1.0f / 512.0f, r = 20.25f, t = 2.25f, b = 12.25f;
   const Rgba8 white{255, 255, 255, 255};
   const mosaic::Scene scene = with_state(
@@ -446,7 +443,9 @@ TEST_F(LlvmpipePeer, DISABLED_SnapTiesRoundLikeLlvmpipe) {
                   {{glm::vec3(l, t, 0.5f), glm::vec3(r, b, 0.5f), glm::vec3(l, b, 0.5f)}, white}},
                  32, 32),
       false);
-  EXPECT_EQ(gl(scene, 1).samples, mosaic_render(scene, 1).samples);
+  const Result m = mosaic_render(scene, 1);
+  EXPECT_EQ(m.samples, 100u);
+  EXPECT_EQ(gl(scene, 1).samples, m.samples);
 }
 
 // Back-face culling keeps the same triangles on both sides: the mapping of mosaic's front face

@@ -166,11 +166,12 @@ TEST(QualityArea, RandomTrianglesAgreeWithDenseSamplingWithinItsBound) {
 }
 
 TEST(QualityArea, SnapIsTheEnginesSnap) {
-  const SnappedTriangle t =
-      snap_triangle({1.5f, 2.25f, 0, 1}, {3.0f + 1.0f / 512, 0, 0, 1}, {0.001f, 7.0f, 0, 1});
+  const SnappedTriangle t = snap_triangle(
+      {1.5f, 2.25f, 0, 1}, {3.0f + 1.0f / 512, 3.0f + 3.0f / 512, 0, 1}, {0.001f, 7.0f, 0, 1});
   EXPECT_EQ(t.x[0], 384);
   EXPECT_EQ(t.y[0], 576);
-  EXPECT_EQ(t.x[1], 3 * 256 + 1);  // a tie rounds up
+  EXPECT_EQ(t.x[1], 3 * 256);      // the tie 768.5 goes to the even step
+  EXPECT_EQ(t.y[1], 3 * 256 + 2);  // and 769.5 too
   EXPECT_EQ(t.x[2], 0);            // 0.256 units rounds to 0
 }
 

@@ -80,16 +80,14 @@ struct FrontEndSimd {
   static B finite(D v) { return (v - v) == D(0.0); }
 
   /// snap() of setup.cpp in lanes, as a double holding the 16.8 integer: clamp, then round to
-  /// nearest with ties up by an exact floor and tie test. floor() is a rounding instruction on
-  /// every ISA here (exact, like the scalar truncation and correction). The + 0 makes a -0 (from
-  /// a small negative input) +0, which the scalar int32 always is: x0 and the planes see it.
+  /// nearest with ties to even, one rounding instruction on every ISA here (its mode is in the
+  /// instruction, not the MXCSR). The + 0 makes a -0 (from a small negative input) +0, which the
+  /// scalar int32 always is: x0 and the planes see it.
   static D snap(D px) {
     constexpr double kLimit = kGuardBandPx;
     constexpr double kUnitsPerPx = kSubpixelOne;
     px = xsimd::select(px < D(-kLimit), D(-kLimit), xsimd::select(D(kLimit) < px, D(kLimit), px));
-    const D s = px * D(kUnitsPerPx);
-    const D below = xsimd::floor(s);
-    return xsimd::select(s - below >= D(0.5), below + D(1.0), below) + D(0.0);
+    return xsimd::nearbyint(px * D(kUnitsPerPx)) + D(0.0);
   }
 
   /// make_plane() of setup.cpp in lanes, in its operation order (the division is not a

@@ -5,10 +5,12 @@
 // a .tris file. Parsing checks every line before it returns anything: the first malformed line
 // throws Error{kParse, "<file>:<line>: <problem>"}.
 //
-// Precision: coordinates are parsed as double and stored as float (Mesh positions are
-// glm::vec4). Every multiple of 1/256 px below 2^15 px is exact in float, so files meant to be
-// reproduced exactly are; a coordinate with more significant bits than float holds is rounded
-// to the nearest float before the renderer snaps it to 1/256 px.
+// Precision: coordinates are parsed as double. Within the guard band (|x|, |y| <= 2^15 px) x and
+// y are snapped to 1/256 px from that double, as the format says, and stored as floats, which
+// hold every such step exactly: the renderer's own snapping then changes nothing, and a tie is
+// decided by the decimal value, never by a float rounding of it. Beyond the guard band (where
+// the renderer clips) x and y, and z everywhere, are rounded to the nearest float (Mesh positions
+// are glm::vec4).
 
 #include <algorithm>
 #include <array>
@@ -85,8 +87,8 @@ std::string quoted(std::string_view t) {
   return "'" + s + "'";
 }
 
-/// A finite decimal number that fits a float (the Mesh stores floats).
-float parse_coordinate(std::string_view token, const char* what, const Where& where) {
+/// A finite decimal number that fits a float (the Mesh stores floats), read exactly as a double.
+double parse_coordinate(std::string_view token, const char* what, const Where& where) {
   const std::string_view t = strip_plus(token);
   double v = 0;
   const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
@@ -97,7 +99,15 @@ float parse_coordinate(std::string_view token, const char* what, const Where& wh
   if (!std::isfinite(v)) where.fail(std::string(what) + " " + quoted(token) + " is not finite");
   if (std::fabs(v) > static_cast<double>(std::numeric_limits<float>::max()))
     where.fail(std::string(what) + " " + quoted(token) + " is out of range");
-  return static_cast<float>(v);
+  return v;
+}
+
+/// An x or y coordinate: snapped to 1/256 px from its double within the guard band, where every
+/// step is exact in float.
+float parse_xy(std::string_view token, const char* what, const Where& where) {
+  const double v = parse_coordinate(token, what, where);
+  if (std::fabs(v) > front::kGuardBandPx) return static_cast<float>(v);
+  return static_cast<float>(front::snap(v)) / static_cast<float>(front::kSubpixelOne);
 }
 
 /// A decimal integer in [lo, hi].
@@ -232,9 +242,8 @@ Scene parse_tris(const std::string& text, const std::string& name) {
       if (mesh.positions.size() / 3 >= kMaxTriangles) where.fail("too many triangles");
       std::array<glm::vec4, 3> v;
       for (int k = 0; k < 3; ++k) {
-        v[k] = {parse_coordinate(t[1 + 3 * k], "x", where),
-                parse_coordinate(t[2 + 3 * k], "y", where),
-                parse_coordinate(t[3 + 3 * k], "z", where), 1.0f};
+        v[k] = {parse_xy(t[1 + 3 * k], "x", where), parse_xy(t[2 + 3 * k], "y", where),
+                static_cast<float>(parse_coordinate(t[3 + 3 * k], "z", where)), 1.0f};
       }
       const std::string_view* colors = &t[1 + kTriCoordinates];
       std::array<Rgba8, 3> c;

@@ -363,11 +363,13 @@ std::size_t covered(const Image& im) {
 
 // ---- The exact coverage oracle used to reduce coverage failures ---------------------------------
 
-// Round to the nearest 1/256 px, a tie going up: the snapping rule of the .tris specification.
+// Round to the nearest 1/256 px, a tie to the even step: the snapping rule of the .tris
+// specification.
 std::int64_t snap_units(double px) {
   const double s = px * kUnits;
-  const double below = std::floor(s);
-  return static_cast<std::int64_t>(s - below >= 0.5 ? below + 1 : below);
+  const double below = std::floor(s), frac = s - below;
+  const bool up = frac > 0.5 || (frac == 0.5 && std::fmod(below, 2.0) != 0.0);
+  return static_cast<std::int64_t>(up ? below + 1 : below);
 }
 
 // Per-sample coverage counts of `tris` drawn with `state` (fill rule and culling), exactly, in
