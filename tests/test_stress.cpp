@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "stress/stress.hpp"
 
@@ -206,22 +207,38 @@ CliRun run_cli(const std::string& args) {
 
 TEST(StressCli, FixedSeedRunsForAFewSecondsAndPasses) {
   // The CI smoke run: a fixed seed, a few seconds (or 200 frames, whichever comes first).
-  const fs::path dir = fs::temp_directory_path() / "mosaic_test_stress_cli";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  // The output folder does not exist yet: the tool makes it (and its parent).
+  const fs::path dir = fs::temp_directory_path() / "mosaic_test_stress_cli" / "failures";
+  fs::remove_all(dir.parent_path());
   const CliRun r =
       run_cli("stress --seed 7 --minutes 0.05 --frames 200 --threads 2 --out-dir " + dir.string());
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("failures 0"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("stress: passed"), std::string::npos) << r.err;
+  ASSERT_TRUE(fs::is_directory(dir));
   EXPECT_TRUE(fs::is_empty(dir)) << "no failure files";
-  fs::remove_all(dir);
+  fs::remove_all(dir.parent_path());
+}
+
+TEST(StressCli, AnOutputFolderThatCannotBeMadeIsAnErrorBeforeAnyFrame) {
+  // A regular file stands where the folder (or its parent) should be.
+  const fs::path file = fs::temp_directory_path() / "mosaic_test_stress_not_a_dir";
+  std::ofstream(file) << "x";
+  for (const fs::path& dir : {file, file / "sub"}) {
+    const CliRun r = run_cli("stress --seed 7 --frames 5 --out-dir " + dir.string());
+    EXPECT_EQ(r.status, 1) << dir << ": " << r.err;
+    EXPECT_NE(r.err.find("--out-dir: cannot make the folder"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("frame"), std::string::npos) << "no frame ran: " << r.err;
+  }
+  fs::remove(file);
 }
 
 TEST(StressCli, BadOptionsAreOneLineAndExitTwo) {
-  for (const std::string args :
-       {"stress --msaa 3", "stress --minutes -1", "stress --minutes soon", "stress --threads 0",
-        "stress --seed -4", "stress --frames x", "stress --out-dir /no/such/dir", "stress extra"}) {
+  for (const std::string& args : std::vector<std::string>{
+           "stress --msaa 3", "stress --minutes -1", "stress --minutes soon", "stress --threads 0",
+           "stress --seed -4", "stress --frames x", "stress --threads 100000", "stress extra",
+           "stress --threads " +
+               std::to_string(4 * std::max(1u, std::thread::hardware_concurrency()) + 1)}) {
     const CliRun r = run_cli(args);
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_EQ(r.err.rfind("mosaic: ", 0), 0u) << args << ": " << r.err;

@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <limits>
 #include <system_error>
+#include <thread>
 
+#include "mosaic/renderer.hpp"
 #include "mosaic/types.hpp"
 
 namespace mosaic::cli {
@@ -90,6 +92,20 @@ CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
         return {};
       },
       "");
+}
+
+int max_cli_threads() {
+  // Four per hardware thread leaves room for oversubscription tests; a count past that is a typo.
+  constexpr int kThreadsPerHardwareThread = 4;
+  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  return std::min(kMaxThreads, kThreadsPerHardwareThread * hardware);
+}
+
+CLI::Validator thread_count(int lo) {
+  CLI::Validator range = integer_in(lo, max_cli_threads());
+  range.description("threads from " + std::to_string(lo) + " to " +
+                    std::to_string(max_cli_threads()) + " (4 per hardware thread)");
+  return range;
 }
 
 CLI::Validator unsigned_integer() {

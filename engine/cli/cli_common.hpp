@@ -60,6 +60,13 @@ CLI::Validator integer_in(std::int64_t lo, std::int64_t hi);
 /// A CLI11 validator for any unsigned 64-bit decimal integer (e.g. a seed); rejects "-1".
 CLI::Validator unsigned_integer();
 
+/// Worker threads a command accepts: kThreadsPerHardwareThread per hardware thread (more is a
+/// typo, not a machine), and never more than the Renderer's kMaxThreads.
+int max_cli_threads();
+/// A CLI11 validator for --threads: an integer from `lo` (0 where 0 means every hardware thread)
+/// to max_cli_threads().
+CLI::Validator thread_count(int lo);
+
 /// What a SCENE argument names.
 enum class SceneKind { kBuiltin, kTris, kObj };
 

@@ -21,8 +21,6 @@ namespace mosaic::cli {
 
 namespace {
 
-// More worker threads than this is a typo, not a machine: refuse before spawning them.
-constexpr int kMaxThreads = 1024;
 // Above this, a time is printed with one decimal; below it with two, so that sub-10 ms frames
 // keep two significant digits.
 constexpr double kTwoDecimalsBelowMs = 10.0;
@@ -249,7 +247,7 @@ Command add_render_command(CLI::App& parent) {
   app->add_flag("--ssaa", o->ssaa, "Shade every sample (supersampling) instead of every pixel");
   app->add_option("--threads", o->threads, "Worker threads; 0 = every hardware thread")
       ->type_name("N")
-      ->transform(integer_in(0, kMaxThreads))
+      ->transform(thread_count(0))
       ->capture_default_str();
   app->add_option("--fill-rule", o->fill_rule,
                   "Edge rule for every draw: d3d (top-left) or gl (bottom-left)")

@@ -488,7 +488,7 @@ Command add_report_command(CLI::App& parent) {
       ->capture_default_str();
   app->add_option("--threads", o->threads, "Worker threads; 0 = every hardware thread")
       ->type_name("N")
-      ->transform(integer_in(0, kMaxThreads))
+      ->transform(thread_count(0))
       ->capture_default_str();
   return Command{app, [o] { return run_report(*o); }};
 }

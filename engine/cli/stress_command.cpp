@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cli_common.hpp"
+#include "mosaic/errors.hpp"
 #include "mosaic/renderer.hpp"
 #include "stress/stress.hpp"
 
@@ -31,8 +32,13 @@ struct StressCliOptions {
 };
 
 int run_stress_command(const StressCliOptions& o) {
-  if (!std::filesystem::is_directory(o.out_dir))
-    throw UsageError("--out-dir: '" + o.out_dir + "' is not a directory");
+  // The folder for failing cases is made if it is missing, before the first frame runs.
+  std::error_code ec;
+  std::filesystem::create_directories(o.out_dir, ec);
+  if (ec || !std::filesystem::is_directory(o.out_dir))
+    throw mosaic::Error(mosaic::Errc::kIo,
+                        "--out-dir: cannot make the folder '" + o.out_dir + "'" +
+                            (ec ? ": " + ec.message() : ": a file of that name exists"));
   stress::RunOptions r;
   r.seed = o.seed;
   r.minutes = o.minutes;
@@ -81,7 +87,7 @@ Command add_stress_command(CLI::App& parent) {
       ->check(CLI::IsMember({1, 4, 8, 16}));
   app->add_option("--threads", o->threads, "Worker threads of the fast path")
       ->type_name("N")
-      ->transform(integer_in(1, kMaxThreads))
+      ->transform(thread_count(1))
       ->capture_default_str();
   app->add_option("--out-dir", o->out_dir, "Where failing .tris files are written")
       ->type_name("DIR")
