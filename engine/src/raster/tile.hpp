@@ -120,6 +120,8 @@ struct TileScratch {
       static_cast<float*>(std::aligned_alloc(64, kValues * sizeof(float)))};
   alignas(64) float zmin[kMaxBlocksPerTile];  ///< hierarchical z: nearest depth in the block
   alignas(64) float zmax[kMaxBlocksPerTile];  ///< hierarchical z: farthest depth in the block
+  /// Samples written into each block since its bounds were last made exact from its depths.
+  alignas(64) std::uint32_t hiz_written[kMaxBlocksPerTile];
   /// The resolved tile, row-major, kMaxTileSize pixels a row whatever the tile's size.
   alignas(64) std::uint32_t resolved[kMaxTileSize * kMaxTileSize];
 };

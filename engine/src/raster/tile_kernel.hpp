@@ -435,6 +435,16 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           float& zmx = cx.sc.zmax[blk];
           const float old_lo = zmn, old_hi = zmx;
           update_block_bounds<kTest>(zmn, zmx, blo, bhi, all_covered, all_written);
+          // Small triangles never cover a whole block, so the bounds above never tighten on a
+          // mesh. Once a block's worth of samples has been written by partial covers since the
+          // bounds were last tight, they are made exact from its depths: one reduction per
+          // block's worth of writes. A cover of the whole block has just tightened them.
+          std::uint32_t& since = cx.sc.hiz_written[blk];
+          since = all_covered ? 0 : since + static_cast<std::uint32_t>(written);
+          if (since >= samples) {
+            since = 0;
+            std::tie(zmn, zmx) = exact_block_bounds(cx, blk);
+          }
           cx.tile_zmin = std::min(cx.tile_zmin, zmn);
           cx.tile_zmax = std::max(cx.tile_zmax, zmx);
           cx.tile_z_loose |= zmn > old_lo || zmx < old_hi;
@@ -575,36 +585,40 @@ struct TileKernelImpl : simd::LaneTypes<A> {
 
   // Exact depth bounds of each of the tile's blocks inside the image, into the frame's
   // hierarchical z. The samples are in cache; the bounds the triangle loop keeps are only
-  // conservative (they narrow when one triangle covers a whole block, rare for small triangles).
+  // conservative between the points where it makes them exact.
   static void store_hiz(Context& cx) {
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
-    const int S = f.samples;
     const int stride = (f.width + kBlockSize - 1) / kBlockSize;
     for (int by = 0; by * kBlockSize < tile.height; ++by) {
       for (int bx = 0; bx * kBlockSize < tile.width; ++bx) {
         const int blk = by * cx.side + bx;
         const std::size_t out = static_cast<std::size_t>(tile.y0 / kBlockSize + by) * stride +
                                 static_cast<std::size_t>(tile.x0 / kBlockSize + bx);
-        float lo = f.clear_depth, hi = f.clear_depth;  // a frame without depth holds only these
-        const float* d = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
-        const std::uint64_t valid = cx.valid[blk];
-        if (f.keep_depth && valid == ~std::uint64_t{0}) {
-          std::tie(lo, hi) = HizSimd<A>::bounds_of(d, S * kBlockPixels);
-        } else if (f.keep_depth) {  // a block cut by the image's right or bottom edge
-          lo = std::numeric_limits<float>::infinity();
-          hi = -lo;
-          for (int s = 0; s < S; ++s)
-            for (int p = 0; p < kBlockPixels; ++p)
-              if ((valid >> p) & 1) {
-                lo = std::min(lo, d[s * kBlockPixels + p]);
-                hi = std::max(hi, d[s * kBlockPixels + p]);
-              }
-        }
+        // A frame without depth holds only the clear depth.
+        const auto [lo, hi] = f.keep_depth ? exact_block_bounds(cx, blk)
+                                           : std::pair<float, float>{f.clear_depth, f.clear_depth};
         f.hiz_min[out] = lo;
         f.hiz_max[out] = hi;
       }
     }
+  }
+
+  // The exact bounds of the depths a block of the tile holds (a block with image pixels).
+  static std::pair<float, float> exact_block_bounds(const Context& cx, int blk) {
+    const int S = cx.f.samples;
+    const float* d = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+    const std::uint64_t valid = cx.valid[blk];
+    if (valid == ~std::uint64_t{0}) return HizSimd<A>::bounds_of(d, S * kBlockPixels);
+    // A block cut by the image's right or bottom edge.
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (int s = 0; s < S; ++s)
+      for (int p = 0; p < kBlockPixels; ++p)
+        if ((valid >> p) & 1) {
+          lo = std::min(lo, d[s * kBlockPixels + p]);
+          hi = std::max(hi, d[s * kBlockPixels + p]);
+        }
+    return {lo, hi};
   }
 
   // The box filter of every pixel, into the image (resolve/resolve_simd.hpp).
@@ -664,6 +678,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
     for (int blk = 0; blk < cx.blocks; ++blk) {
       sc.zmin[blk] = sc.zmax[blk] = f.clear_depth;
+      sc.hiz_written[blk] = 0;
       const int bx = blk % cx.side, by = blk / cx.side;
       const int cols = std::clamp(tile.width - bx * kBlockSize, 0, kBlockSize);
       const int rows = std::clamp(tile.height - by * kBlockSize, 0, kBlockSize);
