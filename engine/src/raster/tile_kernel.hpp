@@ -225,7 +225,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     // Per-triangle SIMD constants. Offsets are exact modulo 2^32: the int32 lanes wrap, and
     // where the final value is known to fit int32 (fits32 below) the wrapped sum is exact.
     std::int64_t a[3], b[3], estep[3], elo[3], ehi[3];
-    I eoff[3][kVectors];
+    I eoff[3][kPeriod], rows_down[3];
     for (int e = 0; e < 3; ++e) {
       a[e] = t.edge[e].a;
       b[e] = t.edge[e].b;
@@ -236,11 +236,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       ehi[e] = std::max<std::int64_t>(0, da) + std::max<std::int64_t>(0, db);
       const I as(static_cast<std::int32_t>(a[e] * kSubpixel));
       const I bs(static_cast<std::int32_t>(b[e] * kSubpixel));
-      // The lanes' columns repeat every kPeriod vectors, kPeriodRows rows further down: after the
-      // first period, each offset is the one a period before plus that many rows (mod 2^32).
+      // The lanes' columns repeat every kPeriod vectors, kPeriodRows rows further down: the
+      // offsets of the first period, and the step to the next (coverage32 steps them, mod 2^32).
       for (int v = 0; v < kPeriod; ++v) eoff[e][v] = as * cx.col[v] + bs * cx.row[v];
-      const I rows_down(static_cast<std::int32_t>(b[e] * kSubpixel * kPeriodRows));
-      for (int v = kPeriod; v < kVectors; ++v) eoff[e][v] = eoff[e][v - kPeriod] + rows_down;
+      rows_down[e] = I(static_cast<std::int32_t>(b[e] * kSubpixel * kPeriodRows));
     }
     // Each edge's offset from a pixel's corner to each of its samples, mod 2^32 like eoff.
     std::uint32_t soff[3][kMaxSamples];
@@ -354,7 +353,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                   static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[1]) + soff[1][s]));
               const I b2(
                   static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[2]) + soff[2][s]));
-              m = coverage32(b0, b1, b2, eoff) & valid;
+              m = coverage32(b0, b1, b2, eoff, rows_down) & valid;
             } else {
               if (!doff_built) {
                 build_doff(a, b, doff);
@@ -468,12 +467,24 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   // A value is negative, outside its edge, where its sign bit is set, so the OR of the three has
   // its sign bit set exactly where the sample is outside: no comparison is needed. Every vector of
   // the block is computed, rows outside the triangle's box too (they come out empty): a fixed
-  // trip count has no branch to mispredict.
-  static std::uint64_t coverage32(I b0, I b1, I b2, const I (&eoff)[3][kVectors]) {
+  // trip count has no branch to mispredict. The values are stepped down the block one period of
+  // vectors at a time (eoff: the first period's offsets; down: one period's step).
+  static std::uint64_t coverage32(I b0, I b1, I b2, const I (&eoff)[3][kPeriod],
+                                  const I (&down)[3]) {
+    I e0[kPeriod], e1[kPeriod], e2[kPeriod];
+    for (int p = 0; p < kPeriod; ++p) {
+      e0[p] = b0 + eoff[0][p];
+      e1[p] = b1 + eoff[1][p];
+      e2[p] = b2 + eoff[2][p];
+    }
     std::uint64_t outside = 0;
-    for (int v = 0; v < kVectors; ++v)
-      outside |= std::uint64_t{M::signs((b0 + eoff[0][v]) | (b1 + eoff[1][v]) | (b2 + eoff[2][v]))}
-                 << (v * L);
+    for (int v = 0; v < kVectors; ++v) {
+      const int p = v % kPeriod;
+      outside |= std::uint64_t{M::signs(e0[p] | e1[p] | e2[p])} << (v * L);
+      e0[p] += down[0];
+      e1[p] += down[1];
+      e2[p] += down[2];
+    }
     return ~outside;
   }
 
