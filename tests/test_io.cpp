@@ -3,6 +3,7 @@
 // trips, OBJ loading and its errors, and PNG / PPM files read back with stb_image.
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>  // libstb-dev; tests do not get its pkg-config include path
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -299,6 +300,34 @@ TEST(TrisLoad, MissingFileOrDirectoryIsAnIoError) {
       EXPECT_EQ(std::string(e.what()).rfind(p.string() + ": cannot open", 0), 0u) << e.what();
     }
   }
+}
+
+// What is not a regular file may never end (a symlink to /dev/zero, a pipe): both loaders refuse
+// it before reading a byte, as they refuse a file past the size bound (a sparse file here).
+TEST(SceneFiles, DevicesPipesAndHugeFilesAreIoErrorsBeforeAnyRead) {
+  TempDir dir;
+  fs::create_symlink("/dev/zero", dir / "zero.tris");
+  fs::create_symlink("/dev/zero", dir / "zero.obj");
+  ASSERT_EQ(mkfifo((dir / "pipe.tris").c_str(), 0600), 0);
+  const fs::path huge = dir / "huge.obj";
+  std::ofstream(huge) << "v 0 0 0\n";
+  fs::resize_file(huge, (std::uintmax_t{1} << 31) + 1);  // sparse: no disk is used
+  const auto expect_io = [](auto&& load, const fs::path& p, const std::string& why) {
+    try {
+      load(p);
+      ADD_FAILURE() << p << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), Errc::kIo) << p;
+      EXPECT_EQ(std::string(e.what()).rfind(p.string() + ": ", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  const auto tris = [](const fs::path& p) { return load_tris(p); };
+  const auto obj = [](const fs::path& p) { return load_obj(p); };
+  expect_io(tris, dir / "zero.tris", "not a regular file");
+  expect_io(obj, dir / "zero.obj", "not a regular file");
+  expect_io(tris, dir / "pipe.tris", "not a regular file");
+  expect_io(obj, huge, "2147483649 bytes, more than the 2147483648");
 }
 
 TEST(TrisLoad, SharedEdgesFixtureCoversEverySampleExactlyOnce) {
@@ -660,6 +689,15 @@ TEST(Obj, ErrorsNameTheFileAndLine) {
       {"no faces", tri, Errc::kParse, ": "},
       {"only a two-vertex face", tri + "f 1 2\n", Errc::kParse, ": "},
       {"empty file", "", Errc::kParse, ": "},
+      {"a face of 256 vertices",
+       [] {
+         std::string t;
+         for (int i = 0; i < 256; ++i) t.append("v ").append(std::to_string(i)).append(" 0 0\n");
+         t.append("f");
+         for (int i = 1; i <= 256; ++i) t.append(" ").append(std::to_string(i));
+         return t.append("\n");
+       }(),
+       Errc::kParse, ":257: a face of 256 vertices"},
   };
   for (const Case& c : cases) {
     const fs::path p = dir / "bad.obj";

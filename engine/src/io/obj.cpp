@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/read_file.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/scene.hpp"
 
@@ -103,6 +104,8 @@ glm::dmat4 framing_camera(const glm::dvec3& centre, double radius, int width, in
 
 /// Largest face index magnitude: what tinyobjloader's int holds.
 constexpr std::int64_t kMaxFaceIndex = std::numeric_limits<int>::max();
+/// Most vertices of one face: tinyobjloader counts them in an unsigned char.
+constexpr int kMaxFaceVertices = std::numeric_limits<unsigned char>::max();
 
 std::uint8_t to_channel(double v01) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(v01, 0.0, 1.0) * kChannelMax));
@@ -138,6 +141,11 @@ std::vector<std::size_t> scan_obj(const std::string& text, const std::string& fi
                                         "' is not a vertex index");
         ++count;
       }
+      // tinyobjloader counts a face's vertices in a byte.
+      if (count > kMaxFaceVertices)
+        throw Error(Errc::kParse, file + ":" + std::to_string(n) + ": a face of " +
+                                      std::to_string(count) + " vertices; at most " +
+                                      std::to_string(kMaxFaceVertices) + " are read");
       if (count >= 3) lines.push_back(n);
     } else if (kw == "v") {
       int count = 0;
@@ -181,13 +189,7 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
   if (width < 1 || width > kMaxTargetSize || height < 1 || height > kMaxTargetSize)
     throw Error(Errc::kInvalidArgument, file + ": size " + std::to_string(width) + "x" +
                                             std::to_string(height) + " is outside 1..16384");
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw Error(Errc::kIo, file + ": cannot open: it is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(Errc::kIo, file + ": cannot open: " + std::strerror(errno));
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error(Errc::kIo, file + ": read error");
+  const std::string text = io::read_scene_file(path);
 
   const std::vector<std::size_t> lines = scan_obj(text, file);
 

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "front/setup.hpp"
+#include "io/read_file.hpp"
 #include "io/write_file.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/renderer.hpp"
@@ -270,14 +271,7 @@ Scene parse_tris(const std::string& text, const std::string& name) {
 
 Scene load_tris(const std::filesystem::path& path) {
   const std::string file = path.string();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw Error(Errc::kIo, file + ": cannot open: it is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(Errc::kIo, file + ": cannot open: " + std::strerror(errno));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error(Errc::kIo, file + ": read error");
-  Scene scene = parse_tris(text, file);
+  Scene scene = parse_tris(io::read_scene_file(path), file);
   scene.name = path.stem().string();
   return scene;
 }
