@@ -477,6 +477,16 @@ TEST_F(CliTest, InputErrorsAreOneLineAndExitOne) {
     expect_one_line_error(run(args), 1, args);
     EXPECT_TRUE(files_in_work().empty()) << args;
   }
+  // A scene file whose name says neither format is bad input, not a malformed command line; the
+  // extension is read in any case.
+  fs::copy_file(kData + "/cli_tetra.obj", work_ / "model.txt");
+  fs::copy_file(kData + "/cli_tetra.obj", work_ / "MODEL.OBJ");
+  const CliRun txt = run("render model.txt --no-out");
+  expect_one_line_error(txt, 1, "model.txt");
+  EXPECT_NE(txt.err.find("must be named *.tris or *.obj"), std::string::npos) << txt.err;
+  EXPECT_EQ(run("render MODEL.OBJ --size 32x24 --no-out").status, 0);
+  fs::remove(work_ / "model.txt");
+  fs::remove(work_ / "MODEL.OBJ");
   // A malformed .tris names the file and the line.
   const CliRun r = run("render " + data("cli_bad_fields.tris"));
   expect_one_line_error(r, 1, "cli_bad_fields.tris");

@@ -9,6 +9,7 @@
 #include <system_error>
 #include <thread>
 
+#include "mosaic/errors.hpp"
 #include "mosaic/renderer.hpp"
 #include "mosaic/types.hpp"
 
@@ -133,6 +134,14 @@ SceneKind classify_scene(const std::string& arg) {
   if (ext == ".obj") return SceneKind::kObj;
   const std::vector<std::string> names = builtin_scene_names();
   if (std::find(names.begin(), names.end(), arg) != names.end()) return SceneKind::kBuiltin;
+  // A file that exists is bad input (status 1), not a malformed command line: its name does not
+  // say which format it is in.
+  std::error_code ec;
+  if (std::filesystem::exists(arg, ec))
+    throw mosaic::Error(mosaic::Errc::kInvalidArgument,
+                        arg +
+                            ": a scene file must be named *.tris or *.obj (the "
+                            "extension, in any case, chooses the format)");
   throw UsageError("unknown scene '" + arg + "': give a built-in scene (" + join_names(names) +
                    ") or a .tris or .obj file");
 }
