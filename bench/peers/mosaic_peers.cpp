@@ -1,11 +1,11 @@
 // mosaic-peers — mosaic side by side with Mesa's llvmpipe, in one process, on the same scenes.
 //
 // Takes: built-in scene names (exported to .tris and read back, so that both renderers draw the
-// very same file), any .tris files, sample counts, thread counts. Gives: a markdown table of
-// median frame times (each frame clear → resolved image, llvmpipe and mosaic alternating
-// A B A B), their ratio, and how much the two images differ; a second table of covered-sample
-// counts (OpenGL fill rule, depth test off: GL_SAMPLES_PASSED against samples_written); and,
-// with --json, all of it with every frame time.
+// very same file), any .tris or OBJ files (OBJ exported the same way), sample counts, thread
+// counts. Gives: a markdown table of median frame times (each frame clear → resolved image,
+// llvmpipe and mosaic alternating A B A B), their ratio, and how much the two images differ; a
+// second table of covered-sample counts (OpenGL fill rule, depth test off: GL_SAMPLES_PASSED
+// against samples_written); and, with --json, all of it with every frame time.
 //
 // Images may differ by 1 per channel: colour rounding, and at 4x the resolve (llvmpipe rounds
 // a mean ending in .5 to even, mosaic up). "unexplained" counts pixels more than 1 apart none of
@@ -19,6 +19,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -259,7 +260,9 @@ int main(int argc, char** argv) {
   std::string fill_rule = "gl", isa_name = "auto";
   std::vector<int> samples_list{1, 4}, threads_list{1, 2};
   int frames = kMinFrames, warmup = kDefaultWarmup;
-  app.add_option("files", files, ".tris files to add to the built-in scenes")
+  app.add_option("files", files,
+                 ".tris or .obj files to add to the built-in scenes (an OBJ is framed at --size "
+                 "and exported to .tris first)")
       ->check(CLI::ExistingFile);
   app.add_option("--scenes", scene_list,
                  "built-in scenes, comma-separated, 'all' or 'none' (default all)");
@@ -305,10 +308,10 @@ int main(int argc, char** argv) {
     const mosaic::FillRule rule =
         fill_rule == "gl" ? mosaic::FillRule::kOpenGL : mosaic::FillRule::kD3D;
 
-    // Built-in scenes go through .tris and back: both renderers then draw exactly the file.
-    // Clip-space ones (default, the knots) are written unsnapped: llvmpipe rounds snap ties to
-    // even and builds depth and colour planes from unsnapped positions, so sub-pixel triangles
-    // can differ (README, Known limits).
+    // Built-in scenes and OBJ files go through .tris and back: both renderers then draw exactly
+    // the file. Clip-space ones (default, the knots, OBJ) are written as the doubles mosaic's
+    // front end computes, and the loader snaps them (ties to even, as llvmpipe), so both draw
+    // the same snapped vertices; per-vertex colour is interpolated linearly in a .tris.
     std::vector<SceneEntry> scenes;
     std::vector<std::string> names = scene_list == "all"    ? mosaic::builtin_scene_names()
                                      : scene_list == "none" ? std::vector<std::string>{}
@@ -319,8 +322,20 @@ int main(int argc, char** argv) {
       mosaic::save_tris(mosaic::builtin_scene(name, width, height), file);
       scenes.push_back({name, file, mosaic::load_tris(file)});
     }
-    for (const std::string& f : files)
-      scenes.push_back({fs::path(f).stem().string(), f, mosaic::load_tris(f)});
+    for (const std::string& f : files) {
+      std::string ext = fs::path(f).extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(),
+                     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      const std::string stem = fs::path(f).stem().string();
+      if (ext != ".obj") {
+        scenes.push_back({stem, f, mosaic::load_tris(f)});
+        continue;
+      }
+      fs::create_directories(tris_dir);
+      const fs::path file = tris_dir / (stem + ".tris");
+      mosaic::save_tris(mosaic::load_obj(f, width, height), file);
+      scenes.push_back({stem, file, mosaic::load_tris(file)});
+    }
     if (scenes.empty()) throw mosaic::Error(mosaic::Errc::kInvalidArgument, "no scenes to run");
     if (!images_dir.empty()) fs::create_directories(images_dir);
 
