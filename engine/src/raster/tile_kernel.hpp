@@ -435,12 +435,14 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           const float old_lo = zmn, old_hi = zmx;
           update_block_bounds<kTest>(zmn, zmx, blo, bhi, all_covered, all_written);
           // Small triangles never cover a whole block, so the bounds above never tighten on a
-          // mesh. Once a block's worth of samples has been written by partial covers since the
-          // bounds were last tight, they are made exact from its depths: one reduction per
-          // block's worth of writes. A cover of the whole block has just tightened them.
+          // mesh. Once small triangles (boxes of at most 2×2 blocks) have written a block's worth
+          // of samples since the bounds were last tight, they are made exact from its depths:
+          // one reduction per block's worth of writes. A cover of the whole block has just
+          // tightened them; a large triangle's partial covers are left to it.
           std::uint32_t& since = cx.sc.hiz_written[blk];
-          since = all_covered ? 0 : since + static_cast<std::uint32_t>(written);
-          if (since >= samples) {
+          if (all_covered) {
+            since = 0;
+          } else if (small_box && (since += static_cast<std::uint32_t>(written)) >= samples) {
             since = 0;
             std::tie(zmn, zmx) = exact_block_bounds(cx, blk);
           }
