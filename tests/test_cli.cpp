@@ -464,6 +464,23 @@ TEST_F(CliTest, UsageErrorsAreOneLineAndExitTwo) {
   }
 }
 
+// Output that cannot be written is a failure: --stats JSON or the scene list sent to a full
+// device exits 1 with an error line, where it once exited 0 with the output lost.
+TEST_F(CliTest, StdoutThatCannotBeWrittenExitsOne) {
+  for (const std::string args : {"render star --size 16x9 --no-out --stats", "scenes"}) {
+    const fs::path err = root_ / "full-stderr.txt";
+    const std::string command = quote(kCli) + " " + args + " > /dev/full 2> " + quote(err.string());
+    const int raw = std::system(command.c_str());
+    ASSERT_TRUE(raw != -1 && WIFEXITED(raw)) << args;
+    EXPECT_EQ(WEXITSTATUS(raw), 1) << args;
+    // The error is the last line (render prints its timing line first).
+    const std::string text = read_file(err);
+    const std::size_t at = text.find("mosaic: cannot write to standard output");
+    ASSERT_NE(at, std::string::npos) << args << ": " << text;
+    EXPECT_EQ(text.find('\n', at), text.size() - 1) << args << ": " << text;
+  }
+}
+
 TEST_F(CliTest, InputErrorsAreOneLineAndExitOne) {
   const std::vector<std::string> cases = {
       "render missing.tris",

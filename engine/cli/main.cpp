@@ -5,6 +5,8 @@
 // 2 for a malformed command line, 1 for bad input data or a failure while running. Each
 // subcommand is one add_<name>_command() in its own <name>_command.cpp.
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -35,6 +37,19 @@ void print_error(const std::string& message) {
   std::cerr << "mosaic: " << (line.empty() ? "unknown error" : line) << std::endl;
 }
 
+// What a command printed on stdout (the --stats JSON, the scene list) must have reached it: a
+// full device or a closed pipe is a failure, not a silent success.
+int finish_stdout(int status) {
+  errno = 0;
+  std::cout.flush();
+  if (!std::cout) {
+    print_error(std::string("cannot write to standard output") +
+                (errno != 0 ? std::string(": ") + std::strerror(errno) : std::string()));
+    return kExitRuntimeError;
+  }
+  return status;
+}
+
 int run(int argc, char** argv) {
   CLI::App app("mosaic: a SIMD multithreaded tile-based software rasterizer", "mosaic");
   app.require_subcommand(1);
@@ -55,7 +70,7 @@ int run(int argc, char** argv) {
     return kExitUsageError;
   }
   for (const mosaic::cli::Command& command : commands) {
-    if (command.app->parsed()) return command.run();
+    if (command.app->parsed()) return finish_stdout(command.run());
   }
   print_error("no command given (see mosaic --help)");
   return kExitUsageError;
