@@ -157,6 +157,41 @@ TEST(TrisParse, XAndYSnapFromTheirDecimalValueWithTiesToEven) {
   EXPECT_EQ(m.positions[2].y, 0.0f);  // -1/512 is the tie -0.5, which goes to 0
 }
 
+// Values too small for double are valid coordinates that round to zero, however they are
+// written (a long run of zeros, or an exponent); too large ones stay errors.
+TEST(TrisParse, NumbersTooSmallForDoubleReadAsZero) {
+  const std::string tiny = "0." + std::string(100000, '0') + "1";
+  const Scene s = parse_tris("size 8 8\ntri " + tiny + " 1e-400 -1e-99999999999999999999  8 -" +
+                             tiny + " 0.5  0 8 0  0 0 0 255\n");
+  const Mesh& m = s.meshes[0];
+  EXPECT_EQ(m.positions[0], glm::vec4(0, 0, 0, 1));
+  EXPECT_EQ(m.positions[1], glm::vec4(8, 0, 0.5f, 1));
+  EXPECT_TRUE(std::signbit(m.positions[0].z)) << "a zero of its sign";
+  for (const std::string& big :
+       std::vector<std::string>{"1e999", "-1e400", "1" + std::string(400, '0')}) {
+    try {
+      parse_tris("size 8 8\ntri " + big + " 0 0  8 0 0  0 8 0  0 0 0 255\n", "b.tris");
+      ADD_FAILURE() << big << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("b.tris:2: x"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A line ends at LF, CR LF or a lone CR (old Mac files), in any mix: line numbers count them.
+TEST(TrisParse, EveryLineEndCountsAsOne) {
+  const std::string tri = "tri 0 0 0  8 0 0  0 8 0  0 0 0 255";
+  const Scene s = parse_tris("size 8 8\r" + tri + "\r\n" + tri + "\n" + tri + "\r");
+  EXPECT_EQ(s.triangle_count(), 3u);
+  try {
+    parse_tris("size 8 8\r# two\r\n\rtri 1 2\n", "cr.tris");
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("cr.tris:4: ", 0), 0u) << e.what();
+  }
+}
+
 TEST(TrisParse, FlatTriangleRendersLikeItsThreeEqualColours) {
   // The parser stores a flat triangle as three equal vertex colours; setup must shade it with
   // exactly that colour (no interpolation rounding), over every covered pixel.
