@@ -17,6 +17,7 @@
 #include <string>
 #include <thread>
 
+#include "reference_test_util.hpp"
 #include "stress/stress.hpp"
 
 namespace mosaic::stress {
@@ -67,6 +68,93 @@ TEST(StressCases, GeneratedCasesPassEveryCheck) {
     const StressCase c = generate_case(11, i);
     const CheckResult r = check_case(c, CheckOptions{});
     EXPECT_TRUE(r.ok()) << "case " << i << " (" << to_string(c.kind) << "): " << r.message;
+  }
+}
+
+// The number of grid cells whose two triangles overlap once snapped to 1/256 px: the vertex that
+// is not on the cell's diagonal lies on the same side of it in both. Cells with a vertex beyond
+// 65536 px (the far border) are skipped; their products would leave int64's exact range.
+int folded_cells(const StressCase& c) {
+  using test::Fx;
+  const Mesh& m = c.mesh;
+  if (c.kind != CaseKind::kGrid || m.indices.size() != 3 * m.triangle_count()) {
+    ADD_FAILURE() << "not an indexed grid";
+    return -1;
+  }
+  int folded = 0;
+  auto cross = [](Fx o, Fx a, Fx b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+  };
+  for (std::size_t t = 0; t + 1 < m.triangle_count(); t += 2) {
+    const std::uint32_t* i0 = &m.indices[3 * t];
+    const std::uint32_t* i1 = &m.indices[3 * t + 3];
+    std::vector<std::uint32_t> shared, own;
+    for (int k = 0; k < 3; ++k)
+      (std::find(i1, i1 + 3, i0[k]) != i1 + 3 ? shared : own).push_back(i0[k]);
+    for (int k = 0; k < 3; ++k)
+      if (std::find(i0, i0 + 3, i1[k]) == i0 + 3) own.push_back(i1[k]);
+    if (shared.size() != 2) {
+      ADD_FAILURE() << "triangles " << t << " and " << t + 1 << " share no edge";
+      continue;
+    }
+    Fx p[4];
+    const std::uint32_t ids[4] = {shared[0], shared[1], own[0], own[1]};
+    bool near = true;
+    for (int k = 0; k < 4; ++k) {
+      const glm::vec4& v = m.positions[ids[k]];
+      near = near && std::abs(v.x) < 65536 && std::abs(v.y) < 65536;
+      p[k] = test::snap_fx({v.x, v.y});
+    }
+    const std::int64_t side2 = cross(p[0], p[1], p[2]), side3 = cross(p[0], p[1], p[3]);
+    if (near && side2 != 0 && side3 != 0 && (side2 > 0) == (side3 > 0)) ++folded;
+  }
+  return folded;
+}
+
+TEST(StressCases, GridCellsNeverFold) {
+  // A grid must cover every sample exactly once, so no cell may fold: seed 11's frame 9053 at 1x
+  // once jittered a vertex across its cell's diagonal, and the check reported a correct image.
+  EXPECT_EQ(folded_cells(generate_case(11, 9053, 1)), 0);
+  int grids = 0;
+  for (std::uint64_t seed : {11, 12, 13})
+    for (std::uint64_t i = 0; i < 2000; ++i) {
+      const StressCase c = generate_case(seed, i, 1);
+      if (c.kind != CaseKind::kGrid) continue;
+      ++grids;
+      EXPECT_EQ(folded_cells(c), 0) << "seed " << seed << " case " << i;
+    }
+  EXPECT_GT(grids, 1000);
+}
+
+TEST(StressChecks, AFoldedCellCoversASampleTwiceAndTheEngineAgrees) {
+  // The reduced false alarm: two triangles of a folded cell overlap, so exact rasterization
+  // writes one sample twice. The oracle and both renderers agree; the generator was at fault.
+  Mesh m = test::screen_mesh(DrawState{.depth_test = DepthTest::kAlways, .cull = CullMode::kNone});
+  test::add_tri(m, {22.41658, 17.953146}, {29.576397, 17.374908}, {29.04652, 24.171745},
+                test::distinct_color(1));
+  test::add_tri(m, {22.41658, 17.953146}, {25.9719, 20.93228}, {29.04652, 24.171745},
+                test::distinct_color(2));
+  std::int64_t oracle_writes = 0, twice = 0;
+  for (int y = 0; y < 240; ++y)
+    for (int x = 0; x < 73; ++x) {
+      const test::Fx s = test::sample_fx(x, y, 0, 1);
+      int n = 0;
+      for (std::size_t t = 0; t < 2; ++t) {
+        const glm::vec4* v = &m.positions[3 * t];
+        n += test::oracle_covers_tri(test::snap_fx({v[0].x, v[0].y}),
+                                     test::snap_fx({v[1].x, v[1].y}),
+                                     test::snap_fx({v[2].x, v[2].y}), s, m.state.fill_rule);
+      }
+      oracle_writes += n;
+      twice += n == 2;
+    }
+  EXPECT_GT(twice, 0);
+  for (Isa isa : {Isa::kReference, Isa::kAuto}) {
+    RenderTarget target = test::sample_target(73, 240, 1);
+    const Draw d = m.draw();
+    Renderer r(RendererOptions{2, isa});
+    const FrameStats st = r.render(Frame{std::span<const Draw>(&d, 1)}, target);
+    EXPECT_EQ(static_cast<std::int64_t>(st.samples_written), oracle_writes);
   }
 }
 

@@ -36,6 +36,13 @@ constexpr int kMaxSoup = 2500;
 constexpr double kUnits = 256;
 /// The far end of the random "far away" factors: coordinates stay below float's 3.4e38.
 constexpr double kMaxFarFactor = 1e30;
+/// A grid cell stays convex while each of its vertices moves less than this fraction of a cell
+/// along both lattice axes: a diagonal's far vertices start half a diagonal from it, and each of
+/// the four may move 1/4 of that towards it.
+constexpr double kMaxCellDisplacement = 0.25;
+/// How far the engine's own rounding moves a grid vertex along an axis, in px: float32 at below
+/// 2^15 px (half an ulp, 2^-10) plus snapping to 1/256 px (half a step).
+constexpr double kRoundingSlackPx = 1.0 / 1024 + 1.0 / 512;
 /// A 10,000 px needle, the longest sliver the issue names.
 constexpr double kNeedleLengthPx = 10000;
 
@@ -52,6 +59,8 @@ double quantize(double v, int mode) {
   const double q = mode == 1 ? kUnits : 16.0;
   return std::round(v * q) / q;
 }
+// The most quantize() moves a value, in px.
+double quantize_error(int mode) { return mode == 0 ? 0.0 : mode == 1 ? 0.5 / kUnits : 0.5 / 16; }
 
 Rgba8 color_id(std::uint32_t i) {
   return {static_cast<std::uint8_t>(i & 0xff), static_cast<std::uint8_t>((i >> 8) & 0xff),
@@ -72,7 +81,8 @@ void add_indexed(Mesh& m, Rng& rng, std::uint32_t a, std::uint32_t b, std::uint3
 // ---- Generators --------------------------------------------------------------------------------
 
 // A rotated, jittered lattice covering the target, its border rows and columns optionally pushed
-// far out (up to 1e30 px) along the lattice axes, which keeps every cell convex.
+// far out (up to 1e30 px) along the lattice axes. Every cell stays convex, so the triangulation
+// covers each sample exactly once.
 void make_grid(StressCase& c, Rng& rng) {
   Mesh& m = c.mesh;
   const double angle = rng.chance(0.3) ? 0.0 : rng.uniform(0, 2 * std::numbers::pi);
@@ -87,8 +97,12 @@ void make_grid(StressCase& c, Rng& rng) {
   }
   n = std::max(n, 2);
   const double far = rng.chance(0.5) ? 1.0 : rng.log_uniform(10, kMaxFarFactor);
-  const double jitter = rng.chance(0.3) ? 0.0 : rng.uniform(0, 0.3) * step;
   const int qmode = rng.range(0, 2);
+  // The jitter leaves room for the rounding that follows, so that no cell folds: a folded cell
+  // overlaps its neighbour, and exact coverage then writes a sample twice.
+  const double max_jitter =
+      std::max(0.0, kMaxCellDisplacement * step - quantize_error(qmode) - kRoundingSlackPx);
+  const double jitter = rng.chance(0.3) ? 0.0 : rng.uniform(0, 0.99) * max_jitter;
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
       double u = -half + i * step, v = -half + j * step;
