@@ -20,6 +20,8 @@
 //   features/depth-only/1x/<isa> the depth-only pass on every SIMD path: the comparison with
 //                               Intel's Masked Occlusion Culling (100k triangles of 10–50 px²,
 //                               depth-only, 1920×1080, one thread: 3.3–4.4 ms with AVX-512)
+//   features/draws/<how>/16x    random-small at 4096×2160 16x as one draw, or as one draw per
+//                               triangle (100k draws): the cost of a draw
 //   occlusion/rects/<where>     100k rectangle queries (8–64 px, random depth) against the
 //                               hierarchical z of the depth-only pass (random-small), or of a
 //                               full-screen wall in front of every query (wall: all hidden, so
@@ -298,6 +300,38 @@ void bench_triangles(benchmark::State& state, bool wall) {
   }
 }
 
+/// The many-draws case: random-small's 100k triangles at 4096×2160 16x, as one draw or as one
+/// draw per triangle. What a frame costs per draw must not grow with the tile count.
+constexpr int kDrawsWidth = 4096, kDrawsHeight = 2160, kDrawsSamples = 16;
+
+void bench_draws(benchmark::State& state, bool per_triangle) {
+  static const mosaic::Scene sc =
+      mosaic::builtin_scene(kScene, kDrawsWidth, kDrawsHeight, kSceneSeed);
+  std::vector<mosaic::Draw> draws = sc.draws();
+  if (per_triangle) {
+    std::vector<mosaic::Draw> split;
+    for (const mosaic::Draw& d : draws)
+      for (std::size_t t = 0; t < d.positions.size() / 3; ++t) {
+        mosaic::Draw one = d;
+        one.positions = d.positions.subspan(3 * t, 3);
+        one.colors = d.colors.subspan(t, 1);
+        split.push_back(one);
+      }
+    draws = std::move(split);
+  }
+  mosaic::Renderer renderer({1});
+  mosaic::RenderTarget target(sc.width, sc.height, kDrawsSamples);
+  mosaic::Frame frame;
+  frame.draws = draws;
+  renderer.render(frame, target);  // warm-up
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    renderer.render(frame, target);
+    state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  state.counters["draws"] = static_cast<double>(draws.size());
+}
+
 benchmark::internal::Benchmark* configure(benchmark::internal::Benchmark* b) {
   return b->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(kMinTime);
 }
@@ -332,6 +366,10 @@ const bool registered = [] {
         (std::string("features/depth-only/1x/") + mosaic::to_string(isa)).c_str(),
         [=](benchmark::State& st) { bench_frame(st, Variant::kDepthOnly, 1, isa); }));
   }
+  for (bool per_triangle : {false, true})
+    configure(benchmark::RegisterBenchmark(
+        per_triangle ? "features/draws/per-triangle/16x" : "features/draws/one/16x",
+        [=](benchmark::State& st) { bench_draws(st, per_triangle); }));
   for (bool wall : {false, true}) {
     const std::string where = wall ? "wall" : kScene;
     configure(benchmark::RegisterBenchmark(("occlusion/rects/" + where).c_str(),

@@ -71,9 +71,6 @@ const char* const kIsaScenes[] = {"default", "random-small", "star", "fan"};
 /// stages), so that they add about 40 s to a REPS=7 run.
 const char* const kMeshScenes[] = {"knot", "knot-100px", "knot-30px"};
 constexpr int kMeshFrameIterations = 2;
-/// Triangles per front-end chunk in the isolated stages; must match kChunkTriangles in
-/// engine/src/frame.cpp so that the isolated stages do the same work as a frame.
-constexpr std::uint32_t kChunkTriangles = 2048;
 
 /// Minimum time per repetition: long enough that a 3 ms frame is timed ~60 times, short enough
 /// that the whole suite with 5 repetitions stays within about 5 minutes on 2 cores. Frames
@@ -218,10 +215,7 @@ struct StageRig {
   const mosaic::Scene& scene;
   std::vector<mosaic::Draw> draws;
   std::vector<mosaic::DrawState> states;
-  struct Job {
-    std::uint32_t draw = 0, begin = 0, end = 0;
-  };
-  std::vector<Job> jobs;
+  mosaic::bin::ChunkPlan plan;
   std::vector<mosaic::bin::Chunk> chunks;
   mosaic::bin::TileGrid grid;
   std::span<const mosaic::raster::SampleOffset> pattern;  ///< the binner culls by it
@@ -247,23 +241,18 @@ struct StageRig {
         kernel(mosaic::simd::tile_kernel(mosaic::available_isas().back())),
         front_end(mosaic::simd::front_end(mosaic::available_isas().back())) {
     for (const mosaic::Draw& d : draws) states.push_back(d.state);
-    for (std::uint32_t d = 0; d < draws.size(); ++d) {
-      const std::uint32_t n = mosaic::front::triangle_count(draws[d]);
-      for (std::uint32_t b = 0; b < n; b += kChunkTriangles)
-        jobs.push_back({d, b, std::min(n, b + kChunkTriangles)});
-    }
-    chunks.resize(jobs.size());
+    std::vector<std::uint32_t> draw_triangles;
+    for (const mosaic::Draw& d : draws) draw_triangles.push_back(mosaic::front::triangle_count(d));
+    plan.build(draw_triangles, mosaic::bin::kChunkTriangles);
+    chunks.resize(plan.chunks());
   }
 
   void setup() {
     arena.execute([&] {
-      tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t i) {
-        const Job& j = jobs[i];
-        chunks[i].tris.clear();
-        chunks[i].planes.clear();
+      tbb::parallel_for(std::size_t{0}, chunks.size(), [&](std::size_t i) {
         mosaic::front::FrontStats fs;
-        front_end(draws[j.draw], j.draw, j.begin, j.end, scene.width, scene.height, chunks[i].tris,
-                  fs, &chunks[i].planes, static_cast<int>(pattern.size()));
+        mosaic::bin::set_up_chunk(chunks[i], plan.pieces(i), draws, front_end, scene.width,
+                                  scene.height, static_cast<int>(pattern.size()), fs);
       });
     });
   }
@@ -308,12 +297,7 @@ struct StageRig {
               const int t = order[k].second;
               bin.clear();
               if (!empty) {
-                for (std::size_t i = 0; i < chunks.size(); ++i) {
-                  const mosaic::bin::Chunk& c = chunks[i];
-                  const auto span = c.bin(t);
-                  if (!span.empty())
-                    bin.push_back({c.tris.data(), span, c.planes.data(), jobs[i].draw});
-                }
+                for (const mosaic::bin::Chunk& c : chunks) mosaic::bin::append_runs(c, t, bin);
               }
               kernel(tf, grid.rect(t), bin, sc, ts);
             }

@@ -292,6 +292,57 @@ TEST(FastPath, RecordedCostsCoverEveryTileAndChunkAndLeaveTheImageAlone) {
   EXPECT_EQ(submitted, s1.triangles_in);
 }
 
+TEST(FastPath, ManySmallDrawsShareChunksAndMatchReference) {
+  using namespace mosaic;
+  // 6000 small triangles as draws of 0 to 3000 triangles with four depth and colour states: the
+  // chunks cut across draws, and every tile's runs must still take each draw's own state.
+  const int w = 700, h = 500;
+  const TestScene sc = make_scene(Shape::kSmall, w, h, 6000, 17, false);
+  const DrawState kStates[] = {{},
+                               {.depth_test = DepthTest::kLessEqual},
+                               {.depth_test = DepthTest::kAlways, .depth_write = false},
+                               {.color_write = false}};
+  static constexpr std::uint32_t kSizes[] = {1, 0, 7, 3000, 2, 1, 2047, 2049, 1};
+  std::vector<Draw> draws;
+  for (std::uint32_t t = 0, k = 0; t < 6000; ++k) {
+    const std::uint32_t n = std::min<std::uint32_t>(kSizes[k % std::size(kSizes)], 6000 - t);
+    Draw d;
+    d.space = Space::kScreen;
+    d.positions = std::span<const glm::vec4>(sc.positions).subspan(3 * t, 3 * n);
+    d.color_source = ColorSource::kPerTriangle;
+    d.colors = std::span<const Rgba8>(sc.colors).subspan(t, n);
+    d.state = kStates[k % std::size(kStates)];
+    draws.push_back(d);
+    t += n;
+  }
+  auto run = [&](Isa isa, int threads, std::span<const Draw> frame_draws) {
+    RenderTarget target(w, h, 4, {true, true});
+    target.set_clear({10, 20, 30, 255});
+    Renderer r({.threads = threads, .isa = isa, .record_costs = true});
+    return test::capture(r, Frame{frame_draws}, target);
+  };
+  const Result ref = run(Isa::kReference, 1, draws);
+  for (Isa isa : simd_isas())
+    for (int threads : {1, 2, 7}) {
+      const Result fast = run(isa, threads, draws);
+      expect_same(ref, fast, std::string(to_string(isa)) + " " + std::to_string(threads));
+      // The chunks are as many as for one draw of the same triangles, not one per draw.
+      EXPECT_EQ(fast.stats.chunk_costs.size(), (6000u + 2047) / 2048);
+    }
+  // One draw per triangle with one state gives what one draw of them all gives.
+  std::vector<Draw> single(6000), whole(1);
+  for (std::uint32_t t = 0; t < 6000; ++t) {
+    single[t].space = Space::kScreen;
+    single[t].positions = std::span<const glm::vec4>(sc.positions).subspan(3 * t, 3);
+    single[t].color_source = ColorSource::kPerTriangle;
+    single[t].colors = std::span<const Rgba8>(sc.colors).subspan(t, 1);
+  }
+  whole[0] = single[0];
+  whole[0].positions = sc.positions;
+  whole[0].colors = sc.colors;
+  expect_same(run(Isa::kAuto, 2, whole), run(Isa::kAuto, 2, single), "one draw per triangle");
+}
+
 }  // namespace
 
 // --- What a frame uses: depth-only draws and frames, frames without depth, hierarchical z ---

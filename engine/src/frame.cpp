@@ -120,16 +120,6 @@ std::vector<Isa> available_isas() {
 
 namespace {
 
-/// Triangles per front-end chunk: large enough that a chunk's bookkeeping (a tile-offset table
-/// of tiles + 1 entries) is small next to its work, small enough that 100k triangles give
-/// dozens of chunks to balance over the workers.
-constexpr std::uint32_t kChunkTriangles = 2048;
-
-/// One chunk of work for the front end: triangles [begin, end) of one draw.
-struct ChunkJob {
-  std::uint32_t draw = 0, begin = 0, end = 0;
-};
-
 double ms_between(std::chrono::steady_clock::time_point a,
                   std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
@@ -147,7 +137,8 @@ struct Renderer::Impl {
   std::unique_ptr<tbb::task_arena> arena;
   // Per-frame memory, kept between frames so that steady-state frames do not allocate.
   std::vector<bin::Chunk> chunks;
-  std::vector<ChunkJob> jobs;
+  bin::ChunkPlan plan;
+  std::vector<std::uint32_t> draw_triangles;
   std::vector<DrawState> states;
   std::vector<shade::DrawShading> shading;
   std::vector<std::pair<std::uint64_t, int>> tile_order;
@@ -274,18 +265,15 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   // triangle) are still in this core's cache; a second pass read them back from memory
   // (random-small 4x: setup + binning 9.3 -> 6.4 ms on 1 thread, 4.3 -> 3.2 ms on 2). The
   // painter's algorithm needs a global sort by depth, so it sets the frame up in one chunk.
-  jobs.clear();
   if (frame.painter) {
-    jobs.push_back({});
+    plan.single();
   } else {
-    for (std::uint32_t d = 0; d < frame.draws.size(); ++d) {
-      const std::uint32_t n = front::triangle_count(frame.draws[d]);
-      for (std::uint32_t b = 0; b < n; b += kChunkTriangles)
-        jobs.push_back({d, b, std::min(n, b + kChunkTriangles)});
-    }
+    draw_triangles.clear();
+    for (const Draw& d : frame.draws) draw_triangles.push_back(front::triangle_count(d));
+    plan.build(draw_triangles, bin::kChunkTriangles);
   }
-  if (chunks.size() < jobs.size()) chunks.resize(jobs.size());
-  const std::size_t nchunks = jobs.size();
+  const std::size_t nchunks = plan.chunks();
+  if (chunks.size() < nchunks) chunks.resize(nchunks);
   tbb::combinable<front::FrontStats> front_stats;
   // Thread time of the chunks' setup and binning, which split the stage's wall time between
   // FrameStats::ms_setup and ms_binning.
@@ -309,17 +297,15 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   arena->execute([&] {
     if (frame.painter) {
       chunks[0].planes.clear();
+      chunks[0].draw_starts.clear();
       chunks[0].tris = reference::setup_frame(frame, W, H, S, stats, &chunks[0].planes);
       bin_after(0, 0, t_front, Clock::now());
     } else {
       tbb::parallel_for(std::size_t{0}, nchunks, [&](std::size_t i) {
-        const ChunkJob& j = jobs[i];
         const auto c0 = Clock::now();
-        chunks[i].tris.clear();
-        chunks[i].planes.clear();
-        front_end(frame.draws[j.draw], j.draw, j.begin, j.end, W, H, chunks[i].tris,
-                  front_stats.local(), &chunks[i].planes, S);
-        bin_after(i, j.end - j.begin, c0, Clock::now());
+        const std::uint32_t triangles = bin::set_up_chunk(chunks[i], plan.pieces(i), frame.draws,
+                                                          front_end, W, H, S, front_stats.local());
+        bin_after(i, triangles, c0, Clock::now());
       });
     }
   });
@@ -401,12 +387,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
           for (std::size_t k = r.begin(); k != r.end(); ++k) {
             const int t = tile_order[k].second;
             bin.clear();
-            for (std::size_t c = 0; c < nchunks; ++c) {
-              const auto span = chunks[c].bin(t);
-              if (!span.empty())
-                bin.push_back({chunks[c].tris.data(), span, chunks[c].planes.data(),
-                               frame.painter ? raster::BinRun::kMixedDraws : jobs[c].draw});
-            }
+            for (std::size_t c = 0; c < nchunks; ++c) bin::append_runs(chunks[c], t, bin);
             const auto c0 = record ? Clock::now() : Clock::time_point{};
             const raster::TileRect rect = grid.rect(t);
             kernel(tf, rect, bin, sc, ts);

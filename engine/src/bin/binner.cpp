@@ -1,6 +1,7 @@
 #include "bin/binner.hpp"
 
 #include <algorithm>
+#include <iterator>
 
 #include "bin/sample_cull.hpp"
 
@@ -71,6 +72,70 @@ BinCounts bin_chunk(Chunk& c, const TileGrid& grid, std::span<const raster::Samp
   c.offsets[0] = 0;
   counts.pairs = c.pairs.size();
   return counts;
+}
+
+void ChunkPlan::build(std::span<const std::uint32_t> draw_triangles,
+                      std::uint32_t chunk_triangles) {
+  pieces_.clear();
+  first_.assign(1, 0);
+  std::uint32_t room = chunk_triangles;  // left in the last chunk
+  for (std::uint32_t d = 0; d < draw_triangles.size(); ++d) {
+    for (std::uint32_t b = 0; b < draw_triangles[d];) {
+      if (room == 0) {
+        first_.push_back(static_cast<std::uint32_t>(pieces_.size()));
+        room = chunk_triangles;
+      }
+      const std::uint32_t e = b + std::min(room, draw_triangles[d] - b);
+      pieces_.push_back({d, b, e});
+      room -= e - b;
+      b = e;
+    }
+  }
+  if (!pieces_.empty()) first_.push_back(static_cast<std::uint32_t>(pieces_.size()));
+}
+
+void ChunkPlan::single() {
+  pieces_.assign(1, {});
+  first_ = {0, 1};
+}
+
+std::uint32_t set_up_chunk(Chunk& chunk, std::span<const ChunkPiece> pieces,
+                           std::span<const Draw> draws, front::FrontEnd front_end, int width,
+                           int height, int samples, front::FrontStats& stats) {
+  chunk.tris.clear();
+  chunk.planes.clear();
+  chunk.draw_starts.clear();
+  std::uint32_t triangles = 0;
+  for (const ChunkPiece& p : pieces) {
+    chunk.draw_starts.push_back({p.draw, static_cast<std::uint32_t>(chunk.tris.size())});
+    front_end(draws[p.draw], p.draw, p.begin, p.end, width, height, chunk.tris, stats,
+              &chunk.planes, samples);
+    triangles += p.end - p.begin;
+  }
+  return triangles;
+}
+
+void append_runs(const Chunk& chunk, int tile, std::vector<raster::BinRun>& runs) {
+  const std::span<const std::uint32_t> bin = chunk.bin(tile);
+  if (bin.empty()) return;
+  const std::vector<DrawStart>& starts = chunk.draw_starts;
+  if (starts.empty()) {
+    runs.push_back({chunk.tris.data(), bin, chunk.planes.data(), raster::BinRun::kMixedDraws});
+    return;
+  }
+  // Both lists ascend: find the draw of each run's first triangle, then where that draw ends.
+  auto draw_of = starts.begin();
+  for (auto it = bin.begin(); it != bin.end();) {
+    draw_of = std::prev(
+        std::upper_bound(draw_of, starts.end(), *it,
+                         [](std::uint32_t i, const DrawStart& s) { return i < s.first; }));
+    const auto next = std::next(draw_of);
+    const auto end =
+        next == starts.end() ? bin.end() : std::lower_bound(it, bin.end(), next->first);
+    runs.push_back({chunk.tris.data(), std::span<const std::uint32_t>(it, end), chunk.planes.data(),
+                    draw_of->draw});
+    it = end;
+  }
 }
 
 }  // namespace mosaic::bin
