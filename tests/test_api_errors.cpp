@@ -5,9 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "reference_test_util.hpp"
@@ -118,6 +121,54 @@ TEST(ApiErrors, MovedFromRenderer) {
     from = Renderer(o);
     EXPECT_EQ(from.isa(), isa);
     EXPECT_EQ(from.render(f, t).triangles_drawn, 1u);
+  }
+}
+
+TEST(ApiErrors, ARendererEnteredWhileItRendersThrowsBusy) {
+  // Thread A renders a frame whose shader holds the frame open until the main thread has tried
+  // to render with the same Renderer; that attempt must throw kBusy and leave its target alone.
+  // Inside the frame, the shader's own render() call is refused the same way.
+  for (Isa isa : available_isas()) {
+    SCOPED_TRACE(to_string(isa));
+    Renderer renderer(RendererOptions{.threads = 2, .isa = isa});
+    std::atomic<bool> inside{false}, attempted{false};
+    std::atomic<int> nested = -1;
+    Mesh m = test::screen_mesh();
+    test::add_tri(m, {1, 1}, {30, 2}, {3, 29}, {200, 30, 60, 255});
+    Frame nested_frame;
+    RenderTarget nested_target(8, 8);
+    Draw d = m.draw();
+    d.shader = make_shader(
+        [&](const Fragment&) {
+          if (!inside.exchange(true)) {
+            try {
+              renderer.render(nested_frame, nested_target);
+              nested = 0;
+            } catch (const Error& e) {
+              nested = static_cast<int>(e.code());
+            }
+            const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+            while (!attempted && std::chrono::steady_clock::now() < give_up)
+              std::this_thread::yield();
+          }
+          return glm::vec4(1, 0, 0, 1);
+        },
+        0);
+    Frame f;
+    f.draws = std::span<const Draw>(&d, 1);
+    RenderTarget a(32, 32, 4), b(32, 32, 4);
+    std::thread first([&] { renderer.render(f, a); });
+    while (!inside) std::this_thread::yield();
+    const std::uint64_t cleared = b.image_hash();
+    expect_error(Errc::kBusy, [&] { renderer.render(f, b); });
+    EXPECT_EQ(b.image_hash(), cleared);
+    attempted = true;
+    first.join();
+    EXPECT_EQ(nested, static_cast<int>(Errc::kBusy));
+    // Once the frame is done, the Renderer takes the next one.
+    inside = true;  // the shader now just colours
+    EXPECT_EQ(renderer.render(f, b).triangles_drawn, 1u);
+    EXPECT_EQ(a.image_hash(), b.image_hash());
   }
 }
 

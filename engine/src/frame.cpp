@@ -12,6 +12,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <functional>
@@ -153,6 +154,7 @@ struct Renderer::Impl {
   // while the renderer still held them (its elements live in oneTBB's own allocations).
   std::vector<std::unique_ptr<Worker>> workers;
   HierarchicalZ hiz;  // the last frame's, when it asked for it
+  std::atomic<bool> busy{false};  // a render() is running: a second one is misuse
 
   FrameStats render_fast(const Frame& frame, RenderTarget& target);
   FrameStats render_reference(const Frame& frame, RenderTarget& target);
@@ -209,6 +211,14 @@ int Renderer::threads() const noexcept {
 
 FrameStats Renderer::render(const Frame& frame, RenderTarget& target) {
   if (!impl_) throw Error(Errc::kInvalidArgument, "render() called on a moved-from Renderer");
+  if (impl_->busy.exchange(true, std::memory_order_acquire))
+    throw Error(Errc::kBusy,
+                "render() entered while this Renderer renders: one render() at a time, or one "
+                "Renderer per thread");
+  struct Release {
+    std::atomic<bool>& busy;
+    ~Release() { busy.store(false, std::memory_order_release); }
+  } release{impl_->busy};
   validate(frame, target);
   if (impl_->isa == Isa::kReference) return impl_->render_reference(frame, target);
   return impl_->render_fast(frame, target);

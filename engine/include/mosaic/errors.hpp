@@ -20,6 +20,7 @@ enum class Errc {
   kIo,                      ///< a file could not be read or written
   kUnsupportedIsa,          ///< a SIMD path was requested that this CPU or build cannot run
   kInvalidArgument,         ///< any other argument outside its documented range
+  kBusy,                    ///< a Renderer entered while it renders (another thread, a shader)
 };
 
 /// A rejected input. `what()` is a single line, fit to print as is.

@@ -117,7 +117,10 @@ std::vector<Isa> available_isas();
 inline constexpr int kMaxThreads = 1024;
 
 /// Renders frames. Holds worker threads and per-frame memory, so keep one alive across frames.
-/// A Renderer is not thread-safe: one render() at a time.
+/// A Renderer is not thread-safe: one render() at a time. A render() that starts while another
+/// runs (from a second thread, or from a shader of the frame) throws Error{kBusy} at once and
+/// leaves both the running frame and its own target untouched. Separate Renderers may render
+/// from separate threads at the same time.
 class Renderer {
  public:
   /// Throws Error{kUnsupportedIsa} if options.isa cannot run here, and Error{kInvalidArgument}
@@ -133,7 +136,8 @@ class Renderer {
   Renderer& operator=(Renderer&&) noexcept;
 
   /// Renders one frame: clear, draws, resolve. Validates every draw first and throws
-  /// Error{kIndexOutOfRange} or Error{kInvalidDraw} without touching the target.
+  /// Error{kIndexOutOfRange} or Error{kInvalidDraw} without touching the target; throws
+  /// Error{kBusy} if this Renderer is already rendering.
   FrameStats render(const Frame& frame, RenderTarget& target);
 
   /// The hierarchical z of the last frame rendered with Frame::keep_hierarchical_z; empty if the
