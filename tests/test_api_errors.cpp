@@ -124,6 +124,30 @@ TEST(ApiErrors, MovedFromRenderer) {
   }
 }
 
+TEST(ApiErrors, MessagesEscapeControlAndMalformedBytes) {
+  // Controls, C1 controls and malformed UTF-8 (a stray continuation, overlong forms, a
+  // surrogate, past U+10FFFF, a cut sequence) are escaped byte by byte; the rest is kept.
+  const std::pair<std::string, std::string> cases[] = {
+      {"plain \\ text", "plain \\ text"},
+      {"\x1b]0;title\x07", "\\x1b]0;title\\x07"},
+      {"a\nb\rc\td\x7f", "a\\x0ab\\x0dc\\x09d\\x7f"},
+      {"\xc2\x9b"
+       "2J \xc2\xa0",
+       "\\xc2\\x9b2J \xc2\xa0"},
+      {"caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80", "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80"},
+      {"\x80\xff", "\\x80\\xff"},
+      {"\xc0\xaf \xe0\x80\xaf", "\\xc0\\xaf \\xe0\\x80\\xaf"},
+      {"\xed\xa0\x80", "\\xed\\xa0\\x80"},
+      {"\xf4\x90\x80\x80", "\\xf4\\x90\\x80\\x80"},
+      {"cut \xe2\x82", "cut \\xe2\\x82"},
+  };
+  for (const auto& [in, out] : cases) {
+    EXPECT_EQ(printable(in), out);
+    EXPECT_EQ(printable(printable(in)), out);
+    EXPECT_EQ(std::string(Error(Errc::kParse, "file '" + in + "'").what()), "file '" + out + "'");
+  }
+}
+
 TEST(ApiErrors, ARendererEnteredWhileItRendersThrowsBusy) {
   // Thread A renders a frame whose shader holds the frame open until the main thread has tried
   // to render with the same Renderer; that attempt must throw kBusy and leave its target alone.

@@ -511,4 +511,68 @@ TEST_F(CliTest, InputErrorsAreOneLineAndExitOne) {
   EXPECT_TRUE(files_in_work().empty());
 }
 
+// What a terminal would act on: a control byte other than the line end, DEL, a C1 control
+// (0xc2 0x80-0x9f) or a byte that is not part of well-formed UTF-8.
+std::string terminal_hazard(const std::string& text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto b = static_cast<unsigned char>(text[i]);
+    const auto next = i + 1 < text.size() ? static_cast<unsigned char>(text[i + 1]) : 0u;
+    if ((b < 0x20 && b != '\n') || b == 0x7f) return "control byte at " + std::to_string(i);
+    if (b == 0xc2 && next >= 0x80 && next <= 0x9f) return "C1 control at " + std::to_string(i);
+    if (b >= 0x80) {
+      const int n = b >= 0xf0 && b <= 0xf4 ? 4 : b >= 0xe0 ? 3 : b >= 0xc2 && b <= 0xdf ? 2 : 0;
+      if (n == 0 || b > 0xf4 || i + n > text.size()) return "bad UTF-8 at " + std::to_string(i);
+      for (int k = 1; k < n; ++k)
+        if ((static_cast<unsigned char>(text[i + k]) & 0xc0) != 0x80)
+          return "bad UTF-8 at " + std::to_string(i);
+      i += n - 1;
+    }
+  }
+  return "";
+}
+
+TEST_F(CliTest, HostileBytesInNamesAndFilesAreEscaped) {
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(work_ / name, std::ios::binary) << text;
+  };
+  const std::string quad = read_file(kData + "/cli_quad.tris");
+  const std::string retitle = "\x1b]0;owned\x07", clear = "\x1b[2J";
+  // File names and contents that would retitle or clear the terminal, with bytes that are not
+  // UTF-8, in errors and in the success line alike.
+  write(retitle + ".tris", "size 4 4\n" + clear + " 1 2 3\n");
+  write("bad\xff\xfe.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 " + clear + "\xff\n");
+  write(clear +
+            "\xc2\x9b"
+            "31m.tris",
+        quad);
+  write("caf\xc3\xa9.tris", quad);
+  struct Case {
+    std::string args;
+    int status;
+    std::string shown;  // what the message must show for the hostile bytes
+  };
+  const std::vector<Case> cases = {
+      {"render " + quote(retitle + ".tris") + " --no-out", 1, "\\x1b]0;owned\\x07.tris:2:"},
+      {"render " + quote("bad\xff\xfe.obj") + " --no-out", 1, "bad\\xff\\xfe.obj:4:"},
+      {"render " +
+           quote(clear + "\xc2\x9b"
+                         "31m.tris") +
+           " --no-out --stats",
+       0, "\\x1b[2J\\xc2\\x9b31m"},
+      {"render " + quote("caf\xc3\xa9.tris") + " --no-out", 0, "caf\xc3\xa9 40x30"},
+      {"render missing" + quote(retitle) + ".tris", 1, "missing\\x1b]0;owned\\x07.tris"},
+      {"render star --size " + quote(clear), 2, "\\x1b[2J"},
+  };
+  for (const Case& c : cases) {
+    const CliRun r = run(c.args);
+    EXPECT_EQ(r.status, c.status) << c.args << ": " << r.err;
+    EXPECT_EQ(terminal_hazard(r.err), "") << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find(c.shown), std::string::npos) << c.args << ": " << r.err;
+    if (c.status == 0 && !r.out.empty()) {
+      const nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
+      EXPECT_TRUE(j.is_object()) << r.out;
+    }
+  }
+}
+
 }  // namespace

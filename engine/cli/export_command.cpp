@@ -30,8 +30,9 @@ int run_export(const ExportOptions& o) {
   if (o.seed_opt->count() > 0) request.seed = o.seed;
   const Scene scene = load_scene(request);
   save_tris(scene, o.out);
-  std::cerr << scene_display_name(o.scene.arg) << " " << scene.width << "x" << scene.height << ": "
-            << scene.triangle_count() << " triangles -> " << o.out << '\n';
+  std::cerr << printable(scene_display_name(o.scene.arg)) << " " << scene.width << "x"
+            << scene.height << ": " << scene.triangle_count() << " triangles -> "
+            << printable(o.out) << '\n';
   return kExitOk;
 }
 

@@ -21,7 +21,8 @@ namespace {
 using mosaic::cli::kExitRuntimeError;
 using mosaic::cli::kExitUsageError;
 
-// Prints `mosaic: <message>` as exactly one line, whatever the message holds.
+// Prints `mosaic: <message>` as exactly one line, whatever the message holds: line breaks and
+// tabs become spaces, and the rest of what could drive the terminal is escaped (printable()).
 void print_error(const std::string& message) {
   std::string line;
   bool space = false;
@@ -34,7 +35,8 @@ void print_error(const std::string& message) {
     space = false;
     line += c;
   }
-  std::cerr << "mosaic: " << (line.empty() ? "unknown error" : line) << std::endl;
+  std::cerr << "mosaic: " << (line.empty() ? "unknown error" : mosaic::printable(line))
+            << std::endl;
 }
 
 // What a command printed on stdout (the --stats JSON, the scene list) must have reached it: a

@@ -184,13 +184,13 @@ int run_render(const RenderOptions& o) {
 
   if (out_path) write_image(target, *out_path);
 
-  std::string line = name + " " + std::to_string(target.width()) + "x" +
+  std::string line = printable(name) + " " + std::to_string(target.width()) + "x" +
                      std::to_string(target.height()) + " " + std::to_string(target.samples()) +
                      "x" + (o.ssaa ? " ssaa" : "") + (o.painter ? " painter" : "") + ": " +
                      format_ms(ms_median) + " ms median of " + std::to_string(o.repeat) + " (" +
                      to_string(last.isa) + ", " + std::to_string(last.threads) +
                      (last.threads == 1 ? " thread)" : " threads)");
-  if (out_path) line += " -> " + *out_path;
+  if (out_path) line += " -> " + printable(*out_path);
   std::cerr << line << '\n';
 
   if (o.stats) {
@@ -225,7 +225,8 @@ int run_render(const RenderOptions& o) {
     j["tile_size"] = last.tile_size;
     j["image_hash"] = hex64(target.image_hash());
     j["output"] = out_path ? nlohmann::ordered_json(*out_path) : nlohmann::ordered_json(nullptr);
-    std::cout << j.dump() << std::endl;
+    // Invalid UTF-8 in the scene's name (a file name) is written as U+FFFD, not thrown.
+    std::cout << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << std::endl;
   }
   return kExitOk;
 }

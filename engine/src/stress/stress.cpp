@@ -782,7 +782,7 @@ RunSummary run_stress(const RunOptions& options, std::ostream& log) {
       log << "stress: FAILED frame " << index << " (" << to_string(c.kind) << ", " << c.width << "x"
           << c.height << ", " << c.samples << "x, " << c.mesh.triangle_count()
           << " triangles): " << r.message << "; reduced to " << reduced.size() << " triangles in "
-          << file.string() << std::endl;
+          << printable(file.string()) << std::endl;
     }
     if (elapsed() >= next_progress) {
       progress();
