@@ -8,11 +8,13 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <random>
@@ -20,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "io/lines.hpp"
+#include "io/read_file.hpp"
 #include "mosaic/mosaic.hpp"
 
 namespace mosaic {
@@ -364,6 +368,56 @@ TEST(SceneFiles, DevicesPipesAndHugeFilesAreIoErrorsBeforeAnyRead) {
   expect_io(obj, dir / "zero.obj", "not a regular file");
   expect_io(tris, dir / "pipe.tris", "not a regular file");
   expect_io(obj, huge, "2147483649 bytes, more than the 2147483648");
+}
+
+TEST(SceneFiles, LinesPastOneMebibyteAreParseErrorsNamingTheLine) {
+  // A line of exactly kMaxLineBytes is read; one byte more fails, naming the line, before the
+  // line is split: a 'tri' line of 10^7 triangles' values took 25 s and 2.4 GiB to reject.
+  TempDir dir;
+  const std::string at_limit(io::kMaxLineBytes, ' ');
+  const std::string tri = "tri 0 0 0 8 0 0 0 8 0 1 2 3 255\n";
+  EXPECT_EQ(parse_tris("size 8 8\n" + tri + "#" + at_limit.substr(1) + "\n" + tri, "ok.tris")
+                .triangle_count(),
+            2u);
+  std::string values = "size 8 8\n" + tri + "tri";
+  while (values.size() < 40 * io::kMaxLineBytes) values += " 0.5 0.5 0.5 0.5";
+  const std::string one_over = "size 8 8\r\n\r\n" + at_limit + "x\r\n" + tri;
+  std::ofstream(dir / "long.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3" << at_limit << "\n";
+  const struct {
+    std::function<Scene()> load;
+    std::string where;
+  } cases[] = {
+      {[&] { return parse_tris(values + "\n", "values.tris"); }, "values.tris:3: a line of "},
+      {[&] { return parse_tris(one_over, "over.tris"); },
+       "over.tris:3: a line of 1048577 bytes, longer than the 1048576"},
+      {[&] { return load_obj(dir / "long.obj"); }, "long.obj:4: a line of 1048583 bytes"},
+  };
+  for (const auto& c : cases) {
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      c.load();
+      ADD_FAILURE() << c.where << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), Errc::kParse) << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.where), std::string::npos) << e.what();
+    }
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(20)) << c.where;
+  }
+}
+
+TEST(SceneFiles, AMeshPastTheMemoryCeilingFailsBeforeItIsParsed) {
+  // The loaders count triangles first and check them against kMaxSceneMeshBytes.
+  constexpr std::uintmax_t kPerTriangle = 60;
+  EXPECT_NO_THROW(io::check_scene_memory("m.tris", io::kMaxSceneMeshBytes / kPerTriangle, 60));
+  try {
+    io::check_scene_memory("m.tris", io::kMaxSceneMeshBytes / kPerTriangle + 1, kPerTriangle);
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), Errc::kParse);
+    EXPECT_EQ(std::string(e.what()).rfind("m.tris: 71582789 triangles need ", 0), 0u) << e.what();
+  }
+  // More than a Mesh's 32-bit vertex indices reach, however small each triangle.
+  EXPECT_THROW(io::check_scene_memory("m.tris", std::uintmax_t{1} << 31, 1), Error);
 }
 
 TEST(TrisLoad, SharedEdgesFixtureCoversEverySampleExactlyOnce) {

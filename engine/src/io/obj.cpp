@@ -24,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/lines.hpp"
 #include "io/read_file.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/scene.hpp"
@@ -103,6 +104,11 @@ constexpr std::int64_t kMaxFaceIndex = std::numeric_limits<int>::max();
 /// Most vertices of one face: tinyobjloader counts them in an unsigned char.
 constexpr int kMaxFaceVertices = std::numeric_limits<unsigned char>::max();
 
+/// What a fanned triangle costs while it loads: tinyobjloader's three indices, vertex count and
+/// material, then the mesh's three positions and colours.
+constexpr std::uintmax_t kBytesPerTriangle =
+    3 * sizeof(tinyobj::index_t) + 1 + sizeof(int) + 3 * (sizeof(glm::vec4) + sizeof(Rgba8));
+
 std::uint8_t to_channel(double v01) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(v01, 0.0, 1.0) * kChannelMax));
 }
@@ -115,12 +121,11 @@ std::vector<std::size_t> scan_obj(const std::string& text, const std::string& fi
   // write them (7).
   constexpr int kMinVertexValues = 3, kMaxVertexValues = 7;
   std::vector<std::size_t> lines;
-  std::istringstream in(text);
-  std::string line;
-  std::size_t n = 0;
-  while (std::getline(in, line)) {
-    ++n;
-    std::istringstream words(line);
+  std::uintmax_t triangles = 0;
+  io::LineReader reader(text, file);
+  for (std::string_view line; reader.next(line);) {
+    const std::size_t n = reader.line_no();
+    std::istringstream words{std::string(line)};
     std::string kw;
     if (!(words >> kw)) continue;
     if (kw == "f") {
@@ -142,7 +147,10 @@ std::vector<std::size_t> scan_obj(const std::string& text, const std::string& fi
         throw Error(Errc::kParse, file + ":" + std::to_string(n) + ": a face of " +
                                       std::to_string(count) + " vertices; at most " +
                                       std::to_string(kMaxFaceVertices) + " are read");
-      if (count >= 3) lines.push_back(n);
+      if (count >= 3) {
+        lines.push_back(n);
+        triangles += static_cast<std::uintmax_t>(count - 2);
+      }
     } else if (kw == "v") {
       int count = 0;
       for (std::string w; words >> w;) {
@@ -160,6 +168,7 @@ std::vector<std::size_t> scan_obj(const std::string& text, const std::string& fi
                                       std::to_string(count));
     }
   }
+  io::check_scene_memory(file, triangles, kBytesPerTriangle);
   return lines;
 }
 

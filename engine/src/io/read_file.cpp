@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <system_error>
 
 #include "mosaic/errors.hpp"
@@ -36,6 +37,16 @@ std::string read_scene_file(const std::filesystem::path& path) {
   if (got > size) throw Error(Errc::kIo, file + ": it grew while it was read");
   text.resize(got);
   return text;
+}
+
+void check_scene_memory(const std::string& file, std::uintmax_t triangles,
+                        std::uintmax_t bytes_per_triangle) {
+  constexpr std::uintmax_t kMaxTriangles = std::numeric_limits<std::uint32_t>::max() / 3;
+  if (triangles > kMaxTriangles || triangles * bytes_per_triangle > kMaxSceneMeshBytes)
+    throw Error(Errc::kParse, file + ": " + std::to_string(triangles) + " triangles need " +
+                                  std::to_string(triangles * bytes_per_triangle) +
+                                  " bytes, more than the " + std::to_string(kMaxSceneMeshBytes) +
+                                  " a scene may take");
 }
 
 }  // namespace mosaic::io

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "front/setup.hpp"
+#include "io/lines.hpp"
 #include "io/read_file.hpp"
 #include "io/write_file.hpp"
 #include "mosaic/errors.hpp"
@@ -42,7 +43,8 @@ constexpr std::size_t kVertexColorValues = 12;
 /// Largest colour channel value (8 bits per channel).
 constexpr int kMaxChannel = 255;
 /// A Draw indexes vertices with uint32, so a file may hold at most this many triangles.
-constexpr std::size_t kMaxTriangles = std::numeric_limits<std::uint32_t>::max() / 3;
+/// What a triangle of the loaded mesh holds: three positions and three colours.
+constexpr std::size_t kBytesPerTriangle = 3 * (sizeof(glm::vec4) + sizeof(Rgba8));
 
 /// Splits a line into whitespace-separated tokens, dropping everything from the first '#'.
 std::vector<std::string_view> tokenize(std::string_view line) {
@@ -113,6 +115,23 @@ std::string quoted(std::string_view t) {
   std::string s(t.substr(0, kMaxShown));
   if (t.size() > kMaxShown) s += "...";
   return "'" + s + "'";
+}
+
+/// Counts the `tri` lines of `text` and reserves the mesh for them, after checking that they fit
+/// the scene memory ceiling: a scene too large to hold fails before any of it is parsed. Every
+/// line's length is checked here too, so that no line is tokenized before it is known bounded.
+void reserve_triangles(std::string_view text, const std::string& name, Mesh& mesh) {
+  io::LineReader lines(text, name);
+  std::size_t tris = 0;
+  for (std::string_view line; lines.next(line);) {
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first != std::string_view::npos && line.substr(first, 3) == "tri" &&
+        (line.size() == first + 3 || line[first + 3] == ' ' || line[first + 3] == '\t'))
+      ++tris;
+  }
+  io::check_scene_memory(name, tris, kBytesPerTriangle);
+  mesh.positions.reserve(3 * tris);
+  mesh.colors.reserve(3 * tris);
 }
 
 /// A finite decimal number that fits a float (the Mesh stores floats), read exactly as a double.
@@ -234,17 +253,15 @@ Scene parse_tris(const std::string& text, const std::string& name) {
   mesh.color_source = ColorSource::kPerVertex;
 
   bool have_size = false, have_clear = false;
-  std::size_t line_no = 0, pos = 0;
   // A UTF-8 byte order mark (some Windows editors write one) is not part of the first line.
   constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
-  if (std::string_view(text).substr(0, kUtf8Bom.size()) == kUtf8Bom) pos = kUtf8Bom.size();
-  while (pos < text.size()) {
-    // A line ends at LF, CR LF, or a CR alone (old Mac files).
-    std::size_t eol = text.find_first_of("\r\n", pos);
-    if (eol == std::string::npos) eol = text.size();
-    const std::string_view line(text.data() + pos, eol - pos);
-    pos = eol + (text.compare(eol, 2, "\r\n") == 0 ? 2 : 1);
-    ++line_no;
+  std::string_view body = text;
+  if (body.substr(0, kUtf8Bom.size()) == kUtf8Bom) body.remove_prefix(kUtf8Bom.size());
+  reserve_triangles(body, name, mesh);
+  io::LineReader lines(body, name);
+  std::size_t line_no = 0;
+  for (std::string_view line; lines.next(line);) {
+    line_no = lines.line_no();
     const Where where{name, line_no};
     if (line.find('\0') != std::string_view::npos) where.fail("NUL character in the line");
 
@@ -273,7 +290,6 @@ Scene parse_tris(const std::string& text, const std::string& name) {
           args != kTriCoordinates + kVertexColorValues)
         where.fail("'tri' needs 9 coordinates and 4 or 12 colour values, got " +
                    std::to_string(args) + " values");
-      if (mesh.positions.size() / 3 >= kMaxTriangles) where.fail("too many triangles");
       std::array<glm::vec4, 3> v;
       for (int k = 0; k < 3; ++k) {
         v[k] = {parse_xy(t[1 + 3 * k], "x", where), parse_xy(t[2 + 3 * k], "y", where),
@@ -321,7 +337,8 @@ void save_tris(const Scene& scene, const std::filesystem::path& path) {
   const std::vector<Draw> draws = scene.draws();
   validate(Frame{draws}, RenderTarget(1, 1));
 
-  std::string out = "# written by mosaic from scene '" + scene.name + "'\n";
+  // The name may hold a line break (it is a file name): printable() keeps the comment one line.
+  std::string out = "# written by mosaic from scene '" + printable(scene.name) + "'\n";
   out += "size " + std::to_string(scene.width) + " " + std::to_string(scene.height) + "\n";
   out += "clear";
   append_color(out, scene.clear_color);
