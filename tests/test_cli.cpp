@@ -481,6 +481,39 @@ TEST_F(CliTest, StdoutThatCannotBeWrittenExitsOne) {
   }
 }
 
+TEST_F(CliTest, StderrThatCannotBeWrittenExitsOne) {
+  for (const std::string args : {"render star --size 16x9 --no-out",
+                                 "export star --size 16x9 "
+                                 "--out x.tris"}) {
+    const std::string command = "cd " + quote(work_.string()) + " && " + quote(kCli) + " " + args +
+                                " > /dev/null 2> /dev/full";
+    const int raw = std::system(command.c_str());
+    ASSERT_TRUE(raw != -1 && WIFEXITED(raw)) << args;
+    EXPECT_EQ(WEXITSTATUS(raw), 1) << args;
+  }
+}
+
+TEST_F(CliTest, RepeatIsBoundedAtOneHundredThousand) {
+  expect_one_line_error(run("render star --size 16x9 --no-out --repeat 100001"), 2, "100001");
+  EXPECT_EQ(run("render star --size 16x9 --no-out --repeat 3").status, 0);
+}
+
+TEST_F(CliTest, OutReplacesASymlinkAndLeavesItsTargetAlone) {
+  std::ofstream(work_ / "target.png") << "keep";
+  std::ofstream(work_ / "target.tris") << "keep";
+  fs::create_symlink("target.png", work_ / "link.png");
+  fs::create_symlink("target.tris", work_ / "link.tris");
+  EXPECT_EQ(run("render star --size 16x9 --out link.png").status, 0);
+  EXPECT_EQ(run("export star --size 16x9 --out link.tris").status, 0);
+  for (const std::string name : {"link.png", "link.tris"}) {
+    EXPECT_FALSE(fs::is_symlink(work_ / name)) << name;
+    EXPECT_TRUE(fs::is_regular_file(work_ / name)) << name;
+  }
+  EXPECT_EQ(load_png("link.png").width, 16);
+  EXPECT_EQ(read_file(work_ / "target.png"), "keep");
+  EXPECT_EQ(read_file(work_ / "target.tris"), "keep");
+}
+
 TEST_F(CliTest, InputErrorsAreOneLineAndExitOne) {
   const std::vector<std::string> cases = {
       "render missing.tris",

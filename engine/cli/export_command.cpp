@@ -44,7 +44,11 @@ Command add_export_command(CLI::App& parent) {
       parent.add_subcommand("export", "Write a built-in or OBJ scene as a screen-space .tris file");
   app->add_option("SCENE", o->scene.arg, "A built-in scene (see `mosaic scenes`) or a .obj file")
       ->required();
-  app->add_option("--out", o->out, "The .tris file to write")->type_name("FILE")->required();
+  app->add_option("--out", o->out,
+                  "The .tris file to write (renamed into place: a symlink at FILE is replaced, "
+                  "never written through)")
+      ->type_name("FILE")
+      ->required();
   o->size_opt = app->add_option("--size", o->size, "Target size WxH (default 1920x1080)")
                     ->type_name("WxH")
                     ->check(size_validator());

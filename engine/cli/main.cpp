@@ -39,16 +39,20 @@ void print_error(const std::string& message) {
             << std::endl;
 }
 
-// What a command printed on stdout (the --stats JSON, the scene list) must have reached it: a
-// full device or a closed pipe is a failure, not a silent success.
-int finish_stdout(int status) {
+// What the program printed (the --stats JSON, the scene list, help; the timing and error lines)
+// must have reached stdout and stderr: a full device or a closed pipe is a failure, not a silent
+// success. A lost stderr has nowhere to say so, and only the status tells.
+int finish_output(int status) {
   errno = 0;
   std::cout.flush();
   if (!std::cout) {
+    std::cout.clear();
     print_error(std::string("cannot write to standard output") +
                 (errno != 0 ? std::string(": ") + std::strerror(errno) : std::string()));
-    return kExitRuntimeError;
+    status = kExitRuntimeError;
   }
+  std::cerr.flush();
+  if (!std::cerr && status == 0) status = kExitRuntimeError;
   return status;
 }
 
@@ -72,15 +76,13 @@ int run(int argc, char** argv) {
     return kExitUsageError;
   }
   for (const mosaic::cli::Command& command : commands) {
-    if (command.app->parsed()) return finish_stdout(command.run());
+    if (command.app->parsed()) return command.run();
   }
   print_error("no command given (see mosaic --help)");
   return kExitUsageError;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run_reporting_errors(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const mosaic::cli::UsageError& e) {
@@ -100,3 +102,7 @@ int main(int argc, char** argv) {
     return kExitRuntimeError;
   }
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return finish_output(run_reporting_errors(argc, argv)); }

@@ -3,6 +3,7 @@
 // Takes: a SCENE (built-in name, .tris or .obj) and render options. Gives: a PNG/PPM file, one
 // human line on stderr, and with --stats one JSON object of FrameStats on stdout.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <limits>
@@ -24,6 +25,11 @@ namespace {
 // Above this, a time is printed with one decimal; below it with two, so that sub-10 ms frames
 // keep two significant digits.
 constexpr double kTwoDecimalsBelowMs = 10.0;
+// Most frames --repeat renders: far more than a median needs (100,000 one-millisecond frames
+// take minutes), and the statistics kept per run for the medians stay near 20 MB.
+constexpr int kMaxRepeat = 100'000;
+// A long --repeat prints a progress line this often, so that it is never silent for hours.
+constexpr std::chrono::seconds kProgressInterval{10};
 // The value of --out that means "write no image" (as --no-out does).
 constexpr const char* kNoOutput = "-";
 
@@ -177,7 +183,17 @@ int run_render(const RenderOptions& o) {
 
   std::vector<FrameStats> runs;
   runs.reserve(static_cast<std::size_t>(o.repeat));
-  for (int i = 0; i < o.repeat; ++i) runs.push_back(renderer.render(frame, target));
+  const auto start = std::chrono::steady_clock::now();
+  auto next_progress = start + kProgressInterval;
+  for (int i = 0; i < o.repeat; ++i) {
+    runs.push_back(renderer.render(frame, target));
+    if (const auto now = std::chrono::steady_clock::now(); now >= next_progress) {
+      std::cerr << "render: " << i + 1 << " of " << o.repeat << " frames ("
+                << static_cast<long>(std::chrono::duration<double>(now - start).count()) << " s)"
+                << std::endl;
+      next_progress = now + kProgressInterval;
+    }
+  }
   // Counters are exact and identical in every repeat; the last run stands for them all.
   const FrameStats& last = runs.back();
   const double ms_median = median_of(runs, &FrameStats::ms_total);
@@ -263,12 +279,13 @@ Command add_render_command(CLI::App& parent) {
                 "Painter's algorithm: no depth test, triangles sorted back to front");
   app->add_option("--repeat", o->repeat, "Render the frame N times and report the median")
       ->type_name("N")
-      ->transform(integer_in(1, std::numeric_limits<int>::max()))
+      ->transform(integer_in(1, kMaxRepeat))
       ->capture_default_str();
   CLI::Option* out =
       app->add_option("--out", o->out,
                       "Image to write, .png or .ppm (default: <scene>.png in the current "
-                      "directory; '-' writes none)")
+                      "directory; '-' writes none). Written whole, then renamed into place: a "
+                      "symlink at FILE is replaced by the image, never written through")
           ->type_name("FILE");
   app->add_flag("--no-out", o->no_out, "Write no image")->excludes(out);
   app->add_flag("--stats", o->stats, "Print one JSON object of frame statistics on stdout");

@@ -459,8 +459,8 @@ int run_report(const ReportOptions& o) {
   std::ofstream f(dir / "report.md");
   f << md.str();
   if (!f) throw Error(Errc::kIo, "report: cannot write report.md");
-  std::cerr << "report: wrote " << printable((dir / "report.md").string()) << " in " << fixed(total_s, 1)
-            << " s" << std::endl;
+  std::cerr << "report: wrote " << printable((dir / "report.md").string()) << " in "
+            << fixed(total_s, 1) << " s" << std::endl;
   return kExitOk;
 }
 

@@ -11,6 +11,8 @@ namespace mosaic::io {
 
 /// Writes `bytes` to a new temporary file next to `path` (so the rename stays on one file
 /// system) and renames it over `path`. Throws Error{kIo} with the path and the system's reason.
+/// A symlink at `path` is replaced by the file, and what it pointed to is left alone: a link
+/// planted where output goes can never redirect the write.
 void write_file_replacing(const std::filesystem::path& path, std::string_view bytes);
 
 }  // namespace mosaic::io
