@@ -1,25 +1,28 @@
 #include "simd/dispatch.hpp"
 
+#include <iterator>
+
 namespace mosaic::simd {
 
-// Defined in kernel_*.cpp, each compiled with its own -m flags.
-void tile_kernel_sse41(const raster::TileFrame&, const raster::TileRect&,
-                       std::span<const raster::BinRun>, raster::TileScratch&, raster::TileStats&);
-void tile_kernel_avx2(const raster::TileFrame&, const raster::TileRect&,
-                      std::span<const raster::BinRun>, raster::TileScratch&, raster::TileStats&);
-void tile_kernel_avx512(const raster::TileFrame&, const raster::TileRect&,
-                        std::span<const raster::BinRun>, raster::TileScratch&, raster::TileStats&);
-
-// Defined in front_*.cpp, each compiled with its own -m flags.
-void front_end_sse41(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
-                     std::vector<front::TriangleSetup>&, front::FrontStats&,
-                     std::vector<front::Plane>*, int);
-void front_end_avx2(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
-                    std::vector<front::TriangleSetup>&, front::FrontStats&,
-                    std::vector<front::Plane>*, int);
-void front_end_avx512(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int,
-                      std::vector<front::TriangleSetup>&, front::FrontStats&,
-                      std::vector<front::Plane>*, int);
+// Defined in kernel_*.cpp and front_*.cpp, each compiled with its own -m flags; the build defines
+// MOSAIC_HAVE_<ISA> for each it compiles (MOSAIC_SIMD_ISAS in simd/CMakeLists.txt).
+#define MOSAIC_DECLARE_ISA(isa)                                                            \
+  void tile_kernel_##isa(const raster::TileFrame&, const raster::TileRect&,                \
+                         std::span<const raster::BinRun>, raster::TileScratch&,            \
+                         raster::TileStats&);                                              \
+  void front_end_##isa(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int, \
+                       std::vector<front::TriangleSetup>&, front::FrontStats&,             \
+                       std::vector<front::Plane>*, int);
+#if MOSAIC_HAVE_SSE41
+MOSAIC_DECLARE_ISA(sse41)
+#endif
+#if MOSAIC_HAVE_AVX2
+MOSAIC_DECLARE_ISA(avx2)
+#endif
+#if MOSAIC_HAVE_AVX512
+MOSAIC_DECLARE_ISA(avx512)
+#endif
+#undef MOSAIC_DECLARE_ISA
 
 namespace {
 
@@ -40,37 +43,44 @@ bool cpu_has(Isa isa) {
   }
 }
 
-// The function of `isa` among one per instruction set, or nullptr where the CPU lacks it.
-template <class F>
-F pick(Isa isa, F sse41, F avx2, F avx512) {
-  if (!cpu_has(isa)) return nullptr;
-  switch (isa) {
-    case Isa::kSse41:
-      return sse41;
-    case Isa::kAvx2:
-      return avx2;
-    case Isa::kAvx512:
-      return avx512;
-    default:
-      return nullptr;
-  }
+// One instruction set's stages, as built.
+struct IsaStages {
+  Isa isa;
+  raster::TileKernel kernel;
+  front::FrontEnd front_end;
+};
+
+constexpr IsaStages kBuilt[] = {
+#if MOSAIC_HAVE_SSE41
+    {Isa::kSse41, &tile_kernel_sse41, &front_end_sse41},
+#endif
+#if MOSAIC_HAVE_AVX2
+    {Isa::kAvx2, &tile_kernel_avx2, &front_end_avx2},
+#endif
+#if MOSAIC_HAVE_AVX512
+    {Isa::kAvx512, &tile_kernel_avx512, &front_end_avx512},
+#endif
+    {Isa::kReference, nullptr, nullptr},  // the end: no SIMD stages
+};
+
+// The stages of `isa` if they were built and the CPU runs them; the end marker otherwise.
+const IsaStages& stages(Isa isa) {
+  for (const IsaStages& s : kBuilt)
+    if (s.kernel != nullptr && s.isa == isa && cpu_has(isa)) return s;
+  return kBuilt[std::size(kBuilt) - 1];
 }
 
 }  // namespace
 
 std::vector<Isa> runnable_isas() {
   std::vector<Isa> out;
-  for (Isa isa : {Isa::kSse41, Isa::kAvx2, Isa::kAvx512})
-    if (cpu_has(isa)) out.push_back(isa);
+  for (const IsaStages& s : kBuilt)
+    if (s.kernel != nullptr && cpu_has(s.isa)) out.push_back(s.isa);
   return out;
 }
 
-raster::TileKernel tile_kernel(Isa isa) {
-  return pick<raster::TileKernel>(isa, &tile_kernel_sse41, &tile_kernel_avx2, &tile_kernel_avx512);
-}
+raster::TileKernel tile_kernel(Isa isa) { return stages(isa).kernel; }
 
-front::FrontEnd front_end(Isa isa) {
-  return pick<front::FrontEnd>(isa, &front_end_sse41, &front_end_avx2, &front_end_avx512);
-}
+front::FrontEnd front_end(Isa isa) { return stages(isa).front_end; }
 
 }  // namespace mosaic::simd
