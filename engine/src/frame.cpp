@@ -25,6 +25,7 @@
 #include "front/front_end.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/renderer.hpp"
+#include "parallel/stage_edges.hpp"
 #include "raster/hiz.hpp"
 #include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
@@ -153,7 +154,7 @@ struct Renderer::Impl {
   // the fuzzers' per-input leak check (LeakSanitizer) reported the scratch buffers as leaked
   // while the renderer still held them (its elements live in oneTBB's own allocations).
   std::vector<std::unique_ptr<Worker>> workers;
-  HierarchicalZ hiz;  // the last frame's, when it asked for it
+  HierarchicalZ hiz;              // the last frame's, when it asked for it
   std::atomic<bool> busy{false};  // a render() is running: a second one is misuse
 
   FrameStats render_fast(const Frame& frame, RenderTarget& target);
@@ -304,21 +305,23 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   };
 
   const auto t_front = Clock::now();
-  arena->execute([&] {
+  parallel::StageEdges front_edges;
+  arena->execute(front_edges.task([&] {
     if (frame.painter) {
       chunks[0].planes.clear();
       chunks[0].draw_starts.clear();
       chunks[0].tris = reference::setup_frame(frame, W, H, S, stats, &chunks[0].planes);
       bin_after(0, 0, t_front, Clock::now());
     } else {
-      tbb::parallel_for(std::size_t{0}, nchunks, [&](std::size_t i) {
+      tbb::parallel_for(std::size_t{0}, nchunks, front_edges.task([&](std::size_t i) {
         const auto c0 = Clock::now();
         const std::uint32_t triangles = bin::set_up_chunk(chunks[i], plan.pieces(i), frame.draws,
                                                           front_end, W, H, S, front_stats.local());
         bin_after(i, triangles, c0, Clock::now());
-      });
+      }));
     }
-  });
+  }));
+  front_edges.join();
   front_stats.combine_each([&](const front::FrontStats& fs) { fs.add_to(stats); });
   stats.triangles_binned = binned.combine(std::plus<>());
   // Set-up triangles the binner culled for covering no sample (the front end counted its own).
@@ -384,10 +387,11 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   }
   tbb::combinable<raster::TileStats> tile_stats;
   if (record) stats.tile_costs.assign(static_cast<std::size_t>(grid.count()), {});
-  arena->execute([&] {
+  parallel::StageEdges tile_edges;
+  arena->execute(tile_edges.task([&] {
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, tile_order.size(), 1),
-        [&](const tbb::blocked_range<std::size_t>& r) {
+        tile_edges.task([&](const tbb::blocked_range<std::size_t>& r) {
           std::unique_ptr<Worker>& worker =
               workers[static_cast<std::size_t>(tbb::this_task_arena::current_thread_index())];
           if (!worker) worker = std::make_unique<Worker>();
@@ -409,9 +413,10 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
                                      static_cast<std::uint32_t>(tile_order[k].first),
                                      ms_between(c0, Clock::now())};
           }
-        },
+        }),
         tbb::simple_partitioner());
-  });
+  }));
+  tile_edges.join();
   const raster::TileStats ts =
       tile_stats.combine([](raster::TileStats a, const raster::TileStats& b) { return a += b; });
   stats.blocks_hiz_rejected = ts.blocks_hiz_rejected;

@@ -12,6 +12,7 @@
 
 #include "mosaic/errors.hpp"
 #include "mosaic/post.hpp"
+#include "parallel/stage_edges.hpp"
 #include "raster/sample_patterns.hpp"
 #include "resolve/resolve.hpp"
 
@@ -83,7 +84,8 @@ void filter_resolve(const RenderTarget& target, Filter filter, std::span<Rgba8> 
       }
     }
   }
-  tbb::parallel_for(0, h, [&](int y) {
+  parallel::StageEdges edges;
+  tbb::parallel_for(0, h, edges.task([&](int y) {
     for (int x = 0; x < w; ++x) {
       double acc[4] = {0, 0, 0, 0}, wsum = 0;
       for (int qy = std::max(0, y - reach); qy <= std::min(h - 1, y + reach); ++qy) {
@@ -105,7 +107,8 @@ void filter_resolve(const RenderTarget& target, Filter filter, std::span<Rgba8> 
       };
       out[static_cast<std::size_t>(y) * w + x] = {q(acc[0]), q(acc[1]), q(acc[2]), q(acc[3])};
     }
-  });
+  }));
+  edges.join();
 }
 
 }  // namespace mosaic::post

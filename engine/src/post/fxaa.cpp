@@ -17,6 +17,7 @@
 
 #include "mosaic/errors.hpp"
 #include "mosaic/post.hpp"
+#include "parallel/stage_edges.hpp"
 
 namespace mosaic::post {
 namespace {
@@ -51,7 +52,8 @@ void fxaa(std::span<const Rgba8> in, int width, int height, std::span<Rgba8> out
     return in[static_cast<std::size_t>(y) * width + x];
   };
   // Rows are independent (each reads `in` only): run them in parallel.
-  tbb::parallel_for(0, height, [&](int y) {
+  parallel::StageEdges edges;
+  tbb::parallel_for(0, height, edges.task([&](int y) {
     for (int x = 0; x < width; ++x) {
       const std::size_t idx = static_cast<std::size_t>(y) * width + x;
       out[idx] = in[idx];
@@ -121,7 +123,8 @@ void fxaa(std::span<const Rgba8> in, int width, int height, std::span<Rgba8> out
       };
       out[idx] = {mix(a0.r, a1.r), mix(a0.g, a1.g), mix(a0.b, a1.b), a0.a};
     }
-  });
+  }));
+  edges.join();
 }
 
 }  // namespace mosaic::post

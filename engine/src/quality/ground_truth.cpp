@@ -15,6 +15,7 @@
 #include "front/fixed_point.hpp"
 #include "front/setup.hpp"
 #include "mosaic/errors.hpp"
+#include "parallel/stage_edges.hpp"
 #include "quality/exact_area.hpp"
 #include "quality/quality.hpp"
 
@@ -141,7 +142,8 @@ Image exact_box_image(const Scene& scene, Rect r) {
   std::vector<double> covered(npix, 0.0);
   std::vector<double> color(npix * 3, 0.0);
   std::atomic<bool> overlap{false};
-  tbb::parallel_for(0, bands, [&](int b) {
+  parallel::StageEdges edges;
+  tbb::parallel_for(0, bands, edges.task([&](int b) {
     const int yb0 = r.y + b * kBandRows, yb1 = std::min(r.y + r.height, yb0 + kBandRows);
     for (std::uint32_t i : bin[static_cast<std::size_t>(b)]) {
       const GtTriangle& g = tris[i];
@@ -161,7 +163,8 @@ Image exact_box_image(const Scene& scene, Rect r) {
           overlap = true;
       }
     }
-  });
+  }));
+  edges.join();
   if (overlap)
     throw Error(Errc::kInvalidArgument,
                 "quality: triangles overlap, the exact ground truth needs a partition");

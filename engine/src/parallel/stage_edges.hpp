@@ -1,0 +1,91 @@
+// parallel/stage_edges.hpp — the happens-before edges of a parallel stage, for ThreadSanitizer.
+//
+// Debian's libtbb is not built with -fsanitize=thread, so TSan cannot see that a task runs after
+// the thread that made it, or that the caller resumes after every task ended: those edges live in
+// libtbb's own atomics. StageEdges states them with TSan's annotations, in TSan builds only; in
+// every other build task() returns the body itself and join() is empty.
+//
+//   StageEdges edges;
+//   tbb::parallel_for(0, n, edges.task(body));  // each task sees what its spawner wrote
+//   edges.join();                               // and the caller sees what every task wrote
+#pragma once
+
+#if defined(__SANITIZE_THREAD__)
+#define MOSAIC_TSAN 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define MOSAIC_TSAN 1
+#endif
+#endif
+
+#if defined(MOSAIC_TSAN)
+#include <sanitizer/tsan_interface.h>
+#endif
+
+#include <utility>
+
+namespace mosaic::parallel {
+
+#if defined(MOSAIC_TSAN)
+inline constexpr bool kTsan = true;
+#else
+inline constexpr bool kTsan = false;
+#endif
+
+class StageEdges {
+ public:
+  /// `body` as a task. In TSan builds each copy oneTBB makes of it (one per task, in the thread
+  /// that spawns that task) acquires its source and releases itself, and each call acquires the
+  /// copy it runs; both also order the reuse of a task's memory by oneTBB's allocator.
+  template <class Body>
+  auto task(Body body) {
+    if constexpr (kTsan) {
+      return Task<Body>(*this, std::move(body));
+    } else {
+      return body;
+    }
+  }
+  /// In the caller, after the stage returned: every task happens before what follows.
+  void join() { acquire(&join_); }
+
+ private:
+  template <class Body>
+  class Task {
+   public:
+    Task(StageEdges& edges, Body body) : edges_((acquire(this), &edges)), body_(std::move(body)) {
+      release(this);
+    }
+    Task(const Task& other)
+        : edges_((acquire(this), acquire(&other), other.edges_)), body_(other.body_) {
+      release(this);
+    }
+    Task& operator=(const Task&) = delete;
+    template <class... Args>
+    void operator()(Args&&... args) const {
+      acquire(this);
+      body_(std::forward<Args>(args)...);
+      release(&edges_->join_);
+      release(this);  // oneTBB reuses a finished task's memory for the next copy
+    }
+
+   private:
+    StageEdges* edges_;
+    Body body_;
+  };
+
+  static void release([[maybe_unused]] const void* sync) {
+#if defined(MOSAIC_TSAN)
+    __tsan_release(const_cast<void*>(sync));
+#endif
+  }
+  static void acquire([[maybe_unused]] const void* sync) {
+#if defined(MOSAIC_TSAN)
+    __tsan_acquire(const_cast<void*>(sync));
+#endif
+  }
+  // Tasks release here and only the caller acquires, so that no task is ordered after another
+  // through it: a race between two tasks of one stage stays visible.
+  char join_ = 0;
+};
+
+}  // namespace mosaic::parallel
