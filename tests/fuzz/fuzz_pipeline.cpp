@@ -2,12 +2,13 @@
 //
 // Takes: arbitrary bytes: an 8-byte header (target size 1..64 × 1..64, sample count, space,
 // depth test, culling, fill rule, colour source, index mode, SSAA, blending, shader, clear depth,
-// tile size) followed by vertices as raw float32 bits x y z w (NaN, Inf, denormals and 1e38
-// included) and, with indices, raw index bytes (some out of range, many repeated). Gives: nothing,
-// or a crash report. The frame must be either rejected by validate() — and then render() throws
-// the same error and leaves the target alone — or rendered identically (every sample's colour and
-// depth bit for bit, and the counters) on the reference and on every SIMD path this CPU runs;
-// every written depth lies in [0, 1].
+// tile size, index count / 32) followed by up to 8192 vertices as raw float32 bits x y z w (NaN,
+// Inf, denormals and 1e38 included) and, with indices, the raw index bytes at the input's end
+// (some out of range, many repeated). Inputs run to about 140 KB (.ci/fuzz.sh's -max_len). Gives:
+// nothing, or a crash report. The frame must be either rejected by validate() — and then render()
+// throws the same error and leaves the target alone — or rendered identically (every sample's
+// colour and depth bit for bit, and the counters) on the reference and on every SIMD path this CPU
+// runs; every written depth lies in [0, 1].
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -29,8 +30,11 @@ constexpr int kMaxEdge = 64;
 constexpr std::size_t kHeaderBytes = 8;
 /// Bytes per vertex: four float32.
 constexpr std::size_t kVertexBytes = 16;
-/// At most this many vertices are read (more adds time, not coverage).
-constexpr std::size_t kMaxVertices = 96;
+/// At most this many vertices are read: 2730 triangles, more than one front-end chunk of 2048
+/// (bin::kChunkTriangles), so that frames of several chunks are fuzzed too.
+constexpr std::size_t kMaxVertices = 8192;
+/// Index bytes per unit of the header's index count: up to 255 * 32 = 8160 indices.
+constexpr std::size_t kIndicesPerCount = 32;
 
 [[noreturn]] void bug(const std::string& what) {
   std::fprintf(stderr, "fuzz_pipeline: %s\n", what.c_str());
@@ -88,11 +92,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // 64 px target).
   const int tile_code = (data[6] >> 1) % 6;
   const int tile_size = tile_code == 0 ? 0 : mosaic::kMinTileSize << (tile_code - 1);
-  const std::size_t index_count = data[7];
+  const std::size_t index_count = data[7] * kIndicesPerCount;
 
+  // With indices, their bytes are the input's last ones; the vertices take what comes before.
+  const std::size_t vertex_end = indexed ? size - std::min(size - kHeaderBytes, index_count) : size;
   std::vector<glm::vec4> positions;
   std::size_t at = kHeaderBytes;
-  while (at + kVertexBytes <= size && positions.size() < kMaxVertices) {
+  while (at + kVertexBytes <= vertex_end && positions.size() < kMaxVertices) {
     glm::vec4 v;
     std::memcpy(&v, data + at, kVertexBytes);
     positions.push_back(v);
@@ -101,6 +107,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::vector<std::uint32_t> indices;
   if (indexed) {
     // Index bytes: mostly in range (mod vertex count + 1: the last value is out of range).
+    at = vertex_end;
     for (std::size_t k = 0; k < index_count && at < size; ++k, ++at)
       indices.push_back(positions.empty() ? data[at] : data[at] % (positions.size() + 1));
   } else {
