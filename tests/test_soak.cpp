@@ -1,13 +1,15 @@
 // A short soak: a few hundred frames of mixed targets, sample counts, SSAA and draw states through
 // ONE Renderer. Every 20th frame must equal a fresh Renderer's, bit for bit, and the resident set
 // must stop growing once every kind of frame has been seen (memory kept between frames is
-// bounded by the largest frame, never by the frame count). The long run is `mosaic stress`.
+// bounded by the largest frame, never by the frame count). The long run:
+// MOSAIC_SOAK_FRAMES=5000 build/release/tests/test_soak.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -18,8 +20,9 @@
 namespace mosaic {
 namespace {
 
-/// Frames of the soak; and how often a frame is checked against a fresh renderer.
-constexpr int kFrames = 300;
+/// Frames of the soak (MOSAIC_SOAK_FRAMES sets a longer run, e.g. 5000); and how often a frame
+/// is checked against a fresh renderer.
+constexpr int kDefaultFrames = 300;
 constexpr int kCheckEvery = 20;
 /// The target shapes, cycled frame by frame so that every one is seen in the first frames: the
 /// renderer's memory reaches its high-water mark early.
@@ -105,11 +108,18 @@ Output render_frame(Renderer& renderer, const FrameInput& in) {
   return {target.image_hash(), st.samples_written};
 }
 
+int soak_frames() {
+  const char* env = std::getenv("MOSAIC_SOAK_FRAMES");
+  const int n = env ? std::atoi(env) : 0;
+  return n > 0 ? n : kDefaultFrames;
+}
+
 TEST(Soak, OneRendererOverMixedFramesMatchesFreshOnesInBoundedMemory) {
+  const int frames = soak_frames();
   Renderer renderer(RendererOptions{.threads = 2});
   long rss_after_warmup = 0, rss_peak = 0;
   int checked = 0;
-  for (int i = 0; i < kFrames; ++i) {
+  for (int i = 0; i < frames; ++i) {
     const FrameInput in = make_frame(i);
     const Output out = render_frame(renderer, in);
     if (i % kCheckEvery == kCheckEvery - 1) {
@@ -123,7 +133,7 @@ TEST(Soak, OneRendererOverMixedFramesMatchesFreshOnesInBoundedMemory) {
     if (i == kWarmupFrames - 1) rss_after_warmup = rss;
     if (i >= kWarmupFrames) rss_peak = std::max(rss_peak, rss);
   }
-  EXPECT_EQ(checked, kFrames / kCheckEvery);
+  EXPECT_EQ(checked, frames / kCheckEvery);
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
   // The sanitizers' quarantines keep freed memory resident: the bound is the release build's.
   (void)rss_after_warmup;
