@@ -27,12 +27,15 @@
 //                               full-screen wall in front of every query (wall: all hidden, so
 //                               every block of every query is visited)
 //   occlusion/triangles/<where> 10k queries of 12 screen-space triangles (a box's faces)
+//   occlusion/boxes/<where>     100k world-space boxes in one boxes_visible() call, through a
+//                               perspective camera
 // Counters: the FrameStats stage times per frame; for queries, queries/s, triangles/s and the
 // fraction reported hidden.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 #include <cstdint>
+#include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <memory>
 #include <span>
@@ -300,6 +303,40 @@ void bench_triangles(benchmark::State& state, bool wall) {
   }
 }
 
+/// World boxes for the batched box queries: 100k boxes of 0.1 to 1 unit through a camera 20 units
+/// from the origin, 2 to 60 px wide on the screen, spread over the view and in depth.
+constexpr int kBoxQueries = 100'000;
+
+void bench_boxes(benchmark::State& state, bool wall) {
+  const mosaic::HierarchicalZ& hiz = occluders(wall);
+  const glm::mat4 vp =
+      glm::perspectiveRH_ZO(glm::radians(60.0f), float(kWidth) / kHeight, 1.0f, 100.0f) *
+      glm::lookAtRH(glm::vec3(0, 0, 20), glm::vec3(0), glm::vec3(0, 1, 0));
+  Rng rng{7};
+  std::vector<mosaic::Box> boxes(kBoxQueries);
+  for (mosaic::Box& b : boxes) {
+    const glm::vec3 c(rng.uniform(-15, 15), rng.uniform(-8, 8), rng.uniform(-30, 15));
+    const float e = static_cast<float>(rng.uniform(0.05, 0.5));
+    b = {c - e, c + e};
+  }
+  std::vector<std::uint8_t> visible(boxes.size());
+  std::int64_t hidden = 0, queries = 0;
+  double seconds = 0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    hiz.boxes_visible(boxes, vp, visible);
+    const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+    state.SetIterationTime(s);
+    for (std::uint8_t v : visible) hidden += !v;
+    queries += kBoxQueries;
+    seconds += s;
+  }
+  if (seconds > 0) {
+    state.counters["Mboxes/s"] = static_cast<double>(queries) / seconds * 1e-6;
+    state.counters["hidden"] = static_cast<double>(hidden) / static_cast<double>(queries);
+  }
+}
+
 /// The many-draws case: random-small's 100k triangles at 4096×2160 16x, as one draw or as one
 /// draw per triangle. What a frame costs per draw must not grow with the tile count.
 constexpr int kDrawsWidth = 4096, kDrawsHeight = 2160, kDrawsSamples = 16;
@@ -377,6 +414,8 @@ const bool registered = [] {
     configure(
         benchmark::RegisterBenchmark(("occlusion/triangles/" + where).c_str(),
                                      [=](benchmark::State& st) { bench_triangles(st, wall); }));
+    configure(benchmark::RegisterBenchmark(("occlusion/boxes/" + where).c_str(),
+                                           [=](benchmark::State& st) { bench_boxes(st, wall); }));
   }
   return true;
 }();

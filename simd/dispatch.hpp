@@ -6,6 +6,7 @@
 
 #include "front/front_end.hpp"
 #include "mosaic/types.hpp"
+#include "occlusion/box_project.hpp"
 #include "raster/tile.hpp"
 
 namespace mosaic::simd {
@@ -19,5 +20,13 @@ raster::TileKernel tile_kernel(Isa isa);
 /// The SIMD front end for `isa` (one of runnable_isas()), or nullptr. It gives exactly what
 /// front::run_front_end() gives (front/setup_simd.hpp).
 front::FrontEnd front_end(Isa isa);
+
+/// Projects boxes for the batched box queries, as occlusion::project_boxes() does.
+using BoxProjector = void (*)(const Box* boxes, std::size_t n, const occlusion::BoxView& view,
+                              occlusion::Projected* out);
+
+/// The SIMD box projection for `isa` (one of runnable_isas()), or nullptr. It gives exactly what
+/// occlusion::project_boxes() gives.
+BoxProjector box_projector(Isa isa);
 
 }  // namespace mosaic::simd

@@ -14,13 +14,16 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "mosaic/mosaic.hpp"
+#include "occlusion/box_project.hpp"
 #include "reference_test_util.hpp"
+#include "simd/dispatch.hpp"
 
 namespace {
 
@@ -300,6 +303,199 @@ TEST(Occlusion, ClipSpaceBoxWithAMatrix) {
   EXPECT_TRUE(hiz.draw_visible(box)) << "through the near plane";
   box.transform = vp * glm::translate(glm::mat4(1), glm::vec3(0, 0, 9.0f));
   EXPECT_FALSE(hiz.draw_visible(box)) << "behind the camera";
+}
+
+/// The 12 triangles of `b`'s faces, drawn through `vp` with `test`.
+struct BoxDraw {
+  std::vector<glm::vec3> corners;
+  std::vector<std::uint32_t> indices;
+  mosaic::Draw draw;
+  BoxDraw(const mosaic::Box& b, const glm::mat4& vp, DepthTest test = DepthTest::kLess) {
+    for (int i = 0; i < 8; ++i)
+      corners.emplace_back(i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y,
+                           i & 4 ? b.max.z : b.min.z);
+    const std::uint32_t faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                                       {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+    for (const auto& f : faces)
+      for (std::uint32_t k : {f[0], f[1], f[2], f[0], f[2], f[3]}) indices.push_back(k);
+    draw.positions_xyz = corners;
+    draw.indices = indices;
+    draw.transform = vp;
+    draw.state.depth_test = test;
+  }
+  BoxDraw(const BoxDraw&) = delete;
+};
+
+TEST(Occlusion, BoxBatchesNearPlaneOffScreenNonFiniteAndBounds) {
+  // The wall of ClipSpaceBoxWithAMatrix at world z = 0, seen from z = 5.
+  const int w = 160, h = 120;
+  const glm::mat4 proj = glm::perspectiveRH_ZO(glm::radians(60.0f), float(w) / h, 0.5f, 50.0f);
+  const glm::mat4 vp = proj * glm::lookAtRH(glm::vec3(0, 0, 5), glm::vec3(0), glm::vec3(0, 1, 0));
+  std::vector<glm::vec3> wall_xyz{{-20, -20, 0}, {20, -20, 0}, {20, 20, 0},
+                                  {-20, -20, 0}, {20, 20, 0},  {-20, 20, 0}};
+  mosaic::Draw wall;
+  wall.positions_xyz = wall_xyz;
+  wall.transform = vp;
+  wall.state.color_write = false;
+  const mosaic::Draw draws[] = {wall};
+  mosaic::Frame frame;
+  frame.draws = draws;
+  frame.keep_hierarchical_z = true;
+  mosaic::RenderTarget target(w, h);
+  mosaic::Renderer renderer({1});
+  renderer.render(frame, target);
+  const HierarchicalZ& hiz = renderer.hierarchical_z();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const mosaic::Box boxes[] = {
+      {{-0.2f, -0.7f, -2.5f}, {0.8f, 0.3f, -1.5f}},  // behind the wall
+      {{-0.2f, -0.7f, 1.5f}, {0.8f, 0.3f, 2.5f}},    // in front of it
+      {{-1, -1, 3.8f}, {1, 1, 5.8f}},                // through the near plane
+      {{-0.5f, -0.5f, 8.5f}, {0.5f, 0.5f, 9.5f}},    // behind the camera
+      {{40, -0.5f, 1}, {41, 0.5f, 2}},               // in front of the wall, off the screen
+      {{nan, -0.5f, 1}, {0.5f, 0.5f, 2}},            // not finite
+  };
+  const std::uint8_t expected[] = {0, 1, 1, 0, 0, 1};
+  std::vector<std::uint8_t> visible(std::size(boxes), 7);
+  std::vector<mosaic::BoxBounds> bounds(std::size(boxes));
+  hiz.boxes_visible(boxes, vp, visible, DepthTest::kLess, bounds);
+  for (std::size_t i = 0; i < std::size(boxes); ++i) {
+    EXPECT_EQ(visible[i], expected[i]) << "box " << i;
+    const BoxDraw d(boxes[i], vp);
+    if (i != 5) {
+      EXPECT_EQ(visible[i] != 0, hiz.draw_visible(d.draw)) << "box " << i;
+    }
+  }
+  // The box in front: its rectangle holds every projected corner, widened by a pixel (less a
+  // float rounding), and its
+  // nearest depth is no farther than any corner's.
+  const BoxDraw front(boxes[1], vp);
+  for (const glm::vec3& c : front.corners) {
+    const glm::dvec4 p = glm::dmat4(vp) * glm::dvec4(c, 1.0);
+    const double x = (p.x / p.w + 1) * w / 2, y = (1 - p.y / p.w) * h / 2, z = p.z / p.w;
+    EXPECT_LE(bounds[1].rect.x0, x - 0.999);
+    EXPECT_GE(bounds[1].rect.x1, x + 0.999);
+    EXPECT_LE(bounds[1].rect.y0, y - 0.999);
+    EXPECT_GE(bounds[1].rect.y1, y + 0.999);
+    EXPECT_LT(bounds[1].nearest, z);
+  }
+  EXPECT_LT(bounds[1].rect.x1 - bounds[1].rect.x0, w);  // and it is a box's, not the screen's
+  EXPECT_EQ(bounds[2].rect.x0, 0.0f);
+  EXPECT_EQ(bounds[2].rect.x1, float(w));
+  EXPECT_EQ(bounds[2].nearest, 0.0f);
+  // Sizes must agree; an empty hierarchical z answers visible.
+  std::vector<std::uint8_t> short_answers(2);
+  EXPECT_THROW(hiz.boxes_visible(boxes, vp, short_answers), mosaic::Error);
+  EXPECT_THROW(hiz.boxes_visible(boxes, vp, visible, DepthTest::kLess, {bounds.data(), 2}),
+               mosaic::Error);
+  const HierarchicalZ none;
+  none.boxes_visible(boxes, vp, visible);
+  for (std::uint8_t v : visible) EXPECT_EQ(v, 1);
+}
+
+TEST(Occlusion, BoxProjectionIsBitIdenticalOnEverySimdPath) {
+  // Boxes of every kind (in front, through the near plane, behind, off screen, huge, flat,
+  // inverted, non-finite, w just above 0) through the scalar projection and each ISA's.
+  mosaic::test::Rng rng(31);
+  const glm::mat4 proj = glm::perspectiveRH_ZO(glm::radians(70.0f), 1.5f, 0.1f, 100.0f);
+  const glm::mat4 vp = proj * glm::lookAtRH(glm::vec3(1, 2, 6), glm::vec3(0), glm::vec3(0, 1, 0));
+  const float inf = std::numeric_limits<float>::infinity();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<mosaic::Box> boxes;
+  for (int i = 0; i < 997; ++i) {
+    const float s = static_cast<float>(std::exp(rng.uniform(std::log(1e-3), std::log(1e4))));
+    const glm::vec3 c(rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-40, 12));
+    const glm::vec3 e(rng.uniform(0, 1) * s, rng.uniform(0, 1) * s, rng.uniform(0, 1) * s);
+    mosaic::Box b{c - e, c + e};
+    switch (i % 11) {
+      case 0:
+        std::swap(b.min, b.max);  // inverted: still a box
+        break;
+      case 1:
+        b.max.y = b.min.y;  // flat
+        break;
+      case 2:
+        b.min.x = i % 2 ? nan : inf;
+        break;
+      case 3:  // a corner just in front of the eye plane
+        b.min = glm::vec3(1, 2, 6) - glm::vec3(0.0f, 0.0f, 1e-6f);
+        break;
+      default:
+        break;
+    }
+    boxes.push_back(b);
+  }
+  const mosaic::occlusion::BoxView view(vp, 203, 141, false), greater(vp, 203, 141, true);
+  for (const auto* v : {&view, &greater}) {
+    std::vector<mosaic::occlusion::Projected> want(boxes.size());
+    mosaic::occlusion::project_boxes(boxes.data(), boxes.size(), *v, want.data());
+    for (mosaic::Isa isa : mosaic::simd::runnable_isas()) {
+      std::vector<mosaic::occlusion::Projected> got(boxes.size());
+      mosaic::simd::box_projector(isa)(boxes.data(), boxes.size(), *v, got.data());
+      for (std::size_t i = 0; i < boxes.size(); ++i) {
+        const auto& a = want[i];
+        const auto& b = got[i];
+        ASSERT_EQ(a.answered, b.answered) << mosaic::to_string(isa) << " box " << i;
+        ASSERT_EQ(a.visible, b.visible) << mosaic::to_string(isa) << " box " << i;
+        ASSERT_EQ(0, std::memcmp(&a.bounds, &b.bounds, sizeof a.bounds))
+            << mosaic::to_string(isa) << " box " << i;
+      }
+    }
+  }
+}
+
+TEST(Occlusion, RectangleBatchesAnswerAsRectVisible) {
+  mosaic::test::Rng rng(5);
+  const Occluders o = occlude(random_occluders(rng, 203, 141, 30), 203, 141, 4);
+  std::vector<ScreenRect> rects;
+  std::vector<float> depths;
+  for (int q = 0; q < 2000; ++q) {
+    const float x0 = static_cast<float>(rng.uniform(-20, 203));
+    const float y0 = static_cast<float>(rng.uniform(-20, 141));
+    rects.push_back({x0, y0, x0 + static_cast<float>(rng.uniform(0.5, 60)),
+                     y0 + static_cast<float>(rng.uniform(0.5, 60))});
+    depths.push_back(static_cast<float>(rng.uniform(0.2, 1.0)));
+  }
+  for (DepthTest test : {DepthTest::kLess, DepthTest::kGreaterEqual}) {
+    std::vector<std::uint8_t> visible(rects.size());
+    o.hiz.rects_visible(rects, depths, visible, test);
+    for (std::size_t i = 0; i < rects.size(); ++i)
+      ASSERT_EQ(visible[i] != 0, o.hiz.rect_visible(rects[i], depths[i], test)) << i;
+  }
+  std::vector<std::uint8_t> fewer(3);
+  EXPECT_THROW(o.hiz.rects_visible(rects, depths, fewer), mosaic::Error);
+}
+
+TEST(Occlusion, RandomBoxBatchesAreConservative) {
+  // World boxes through a perspective camera against random occluders: a box reported hidden
+  // must have no sample of its faces pass the depth test (the reference renders them), and the
+  // triangle query of its faces must agree that it is hidden.
+  mosaic::test::Rng rng(23);
+  const int w = 203, h = 141;
+  const glm::mat4 proj = glm::perspectiveRH_ZO(glm::radians(60.0f), float(w) / h, 2.0f, 30.0f);
+  const glm::mat4 vp = proj * glm::lookAtRH(glm::vec3(0, 0, 12), glm::vec3(0), glm::vec3(0, 1, 0));
+  std::size_t hidden = 0, total = 0;
+  for (int scene = 0; scene < 4; ++scene) {
+    const int samples = scene % 2 ? 4 : 1;
+    const Occluders o = occlude(random_occluders(rng, w, h, 30), w, h, samples);
+    std::vector<mosaic::Box> boxes;
+    for (int q = 0; q < 150; ++q) {
+      const glm::vec3 c(rng.uniform(-7, 7), rng.uniform(-5, 5), rng.uniform(-16, 9));
+      const glm::vec3 e(rng.uniform(0.05, 1.5), rng.uniform(0.05, 1.5), rng.uniform(0.05, 1.5));
+      boxes.push_back({c - e, c + e});
+    }
+    std::vector<std::uint8_t> visible(boxes.size());
+    o.hiz.boxes_visible(boxes, vp, visible);
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      ++total;
+      if (visible[i]) continue;
+      ++hidden;
+      const BoxDraw d(boxes[i], vp);
+      ASSERT_FALSE(draw_truly_visible(o, d.draw)) << "scene " << scene << " box " << i;
+      ASSERT_FALSE(o.hiz.draw_visible(d.draw)) << "scene " << scene << " box " << i;
+    }
+  }
+  std::printf("boxes: %zu queries, %zu reported hidden\n", total, hidden);
+  ASSERT_GT(hidden, total / 10) << "the scenes hide too little to test anything";
 }
 
 // --- Random scenes: conservativeness, and how often a hidden query is found hidden ---

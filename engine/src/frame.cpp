@@ -241,6 +241,7 @@ FrameStats Renderer::Impl::render_reference(const Frame& frame, RenderTarget& ta
   raster::block_bounds_from_samples(samples.depth, target.width(), target.height(),
                                     target.samples(), HierarchicalZ::kBlockSize, hiz.zmin_storage(),
                                     hiz.zmax_storage());
+  hiz.build_coarse();
   return stats;
 }
 
@@ -417,6 +418,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
         tbb::simple_partitioner());
   }));
   tile_edges.join();
+  if (frame.keep_hierarchical_z) hiz.build_coarse();
   const raster::TileStats ts =
       tile_stats.combine([](raster::TileStats a, const raster::TileStats& b) { return a += b; });
   stats.blocks_hiz_rejected = ts.blocks_hiz_rejected;

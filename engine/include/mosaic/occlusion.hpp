@@ -6,6 +6,9 @@
 // against the frame's depth); one reported visible may still be hidden.
 #pragma once
 
+#include <cstdint>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
 #include <span>
 #include <vector>
 
@@ -17,6 +20,22 @@ namespace mosaic {
 /// A rectangle of the screen in pixels, y down: [x0, x1) × [y0, y1).
 struct ScreenRect {
   float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+/// An axis-aligned box with corners `min` and `max`, in the space a query's matrix maps to clip
+/// space (usually world space, with the occluder pass's view-projection).
+struct Box {
+  glm::vec3 min{0.0f}, max{0.0f};
+};
+
+/// What a box query found besides its answer (HierarchicalZ::boxes_visible()).
+struct BoxBounds {
+  /// The box's screen rectangle (its projected corners' bounds, widened by a pixel) and its
+  /// nearest depth in the sense of the test: the rectangle and depth the box was tested with. A
+  /// box with a corner on or behind the near plane, or not finite, gets the whole screen and the
+  /// nearest depth there is (0, or 1 for the greater tests); one wholly behind it, nothing.
+  ScreenRect rect;
+  float nearest = 0;
 };
 
 /// Depth bounds of every 8×8-pixel block of a frame: the smallest and the largest depth any of
@@ -47,6 +66,25 @@ class HierarchicalZ {
   /// entirely off the screen, or empty, is hidden; a NaN in the input answers visible.
   bool rect_visible(const ScreenRect& rect, float nearest, DepthTest test = DepthTest::kLess) const;
 
+  /// rect_visible() of many rectangles: `visible[i]` is 1 when rects[i] at depth nearest[i] may
+  /// be visible, 0 when it is hidden. Throws Error{kInvalidArgument} if the spans' sizes differ.
+  void rects_visible(std::span<const ScreenRect> rects, std::span<const float> nearest,
+                     std::span<std::uint8_t> visible, DepthTest test = DepthTest::kLess) const;
+
+  /// Whether anything inside each box could pass `test` against the frame's depth: `visible[i]`
+  /// is 1 when boxes[i] may be visible, 0 when it is hidden. `view_proj` maps the boxes' space to
+  /// the occluder pass's clip space (D3D depth: 0 <= z <= w), and the viewport is the frame's, as
+  /// Renderer::render() maps clip space. Each box is projected by its eight corners in double; a
+  /// box with a corner on or behind the near plane (w <= 0 or z < 0) is visible unless all of
+  /// them are behind it (z < 0: clipped away, hidden), and one with a non-finite corner is
+  /// visible. Otherwise its screen rectangle, widened by a pixel, and its nearest corner depth,
+  /// moved one float step nearer, go to rect_visible(). Conservative: never 0 when a sample of a
+  /// triangle inside the box would pass. `bounds`, if not empty, gets what each box was tested
+  /// with. Throws Error{kInvalidArgument} if the spans' sizes differ.
+  void boxes_visible(std::span<const Box> boxes, const glm::mat4& view_proj,
+                     std::span<std::uint8_t> visible, DepthTest test = DepthTest::kLess,
+                     std::span<BoxBounds> bounds = {}) const;
+
   /// Whether any sample of the draw's triangles could pass its depth test
   /// (draw.state.depth_test, kLess by default) against the frame's depth. The draw is read as
   /// Renderer::render() reads it (space, transform, indices, clipping, culling); its colour and
@@ -55,9 +93,14 @@ class HierarchicalZ {
   /// malformed draw (Error{kInvalidDraw}, Error{kIndexOutOfRange}).
   bool draw_visible(const Draw& draw) const;
 
+  /// Blocks per edge of a coarse cell: rect_visible() skips every block of a 32×32-pixel cell
+  /// whose bounds already hide the query, and looks at the blocks only where they do not.
+  static constexpr int kCoarseBlocks = 4;
+
   /// Engine internals: sizes the bounds for a width × height frame and gives them to be
-  /// written. Not for applications.
+  /// written; build_coarse() then derives the coarse cells from them. Not for applications.
   void reset(int width, int height);
+  void build_coarse();                                     ///< engine internals
   float* zmin_storage() noexcept { return zmin_.data(); }  ///< engine internals
   float* zmax_storage() noexcept { return zmax_.data(); }  ///< engine internals
   void clear() noexcept;                                   ///< engine internals: make empty
@@ -65,6 +108,7 @@ class HierarchicalZ {
  private:
   int width_ = 0, height_ = 0;
   std::vector<float> zmin_, zmax_;
+  std::vector<float> coarse_min_, coarse_max_;  ///< per coarse cell: the bounds of its blocks
 };
 
 }  // namespace mosaic

@@ -11,10 +11,15 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "frame_checks.hpp"
 #include "front/front_end.hpp"
+#include "mosaic/errors.hpp"
+#include "occlusion/box_project.hpp"
 #include "raster/hiz.hpp"
+#include "simd/dispatch.hpp"
 
 namespace mosaic {
 
@@ -39,6 +44,25 @@ void HierarchicalZ::clear() noexcept {
   width_ = height_ = 0;
   zmin_.clear();
   zmax_.clear();
+  coarse_min_.clear();
+  coarse_max_.clear();
+}
+
+void HierarchicalZ::build_coarse() {
+  const int bw = blocks_x(), bh = blocks_y();
+  const int cw = (bw + kCoarseBlocks - 1) / kCoarseBlocks,
+            ch = (bh + kCoarseBlocks - 1) / kCoarseBlocks;
+  coarse_min_.assign(static_cast<std::size_t>(cw) * ch, std::numeric_limits<float>::infinity());
+  coarse_max_.assign(static_cast<std::size_t>(cw) * ch, -std::numeric_limits<float>::infinity());
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      const std::size_t b = static_cast<std::size_t>(by) * bw + bx;
+      const std::size_t c = static_cast<std::size_t>(by / kCoarseBlocks) * cw + bx / kCoarseBlocks;
+      // std::min/max keep a NaN bound out; a NaN block never hides anything (hiz_hidden), so
+      // the cell must not either: NaN poisons it on purpose.
+      coarse_min_[c] = std::isnan(zmin_[b]) ? zmin_[b] : std::min(coarse_min_[c], zmin_[b]);
+      coarse_max_[c] = std::isnan(zmax_[b]) ? zmax_[b] : std::max(coarse_max_[c], zmax_[b]);
+    }
 }
 
 bool HierarchicalZ::rect_visible(const ScreenRect& r, float nearest, DepthTest test) const {
@@ -58,12 +82,80 @@ bool HierarchicalZ::rect_visible(const ScreenRect& r, float nearest, DepthTest t
   const int bx1 = std::min(blocks_x() - 1, static_cast<int>(x1) / kB);
   const int by1 = std::min(blocks_y() - 1, static_cast<int>(y1) / kB);
   const int stride = blocks_x();
-  for (int by = by0; by <= by1; ++by)
-    for (int bx = bx0; bx <= bx1; ++bx) {
-      const std::size_t b = static_cast<std::size_t>(by) * stride + bx;
-      if (!raster::hiz_hidden(test, nearest, nearest, zmin_[b], zmax_[b])) return true;
+  auto blocks_hide = [&](int ya, int yb, int xa, int xb) {
+    for (int by = ya; by <= yb; ++by)
+      for (int bx = xa; bx <= xb; ++bx) {
+        const std::size_t b = static_cast<std::size_t>(by) * stride + bx;
+        if (!raster::hiz_hidden(test, nearest, nearest, zmin_[b], zmax_[b])) return false;
+      }
+    return true;
+  };
+  // Most visible queries show in their first block; hidden ones must visit every block, and a
+  // cell's bounds hold all of its blocks': where they hide the query, so does each block.
+  const std::size_t first = static_cast<std::size_t>(by0) * stride + bx0;
+  if (!raster::hiz_hidden(test, nearest, nearest, zmin_[first], zmax_[first])) return true;
+  if (coarse_min_.empty()) return !blocks_hide(by0, by1, bx0, bx1);
+  constexpr int kC = kCoarseBlocks;
+  const int cstride = (stride + kC - 1) / kC;
+  for (int cy = by0 / kC; cy <= by1 / kC; ++cy)
+    for (int cx = bx0 / kC; cx <= bx1 / kC; ++cx) {
+      const std::size_t c = static_cast<std::size_t>(cy) * cstride + cx;
+      if (raster::hiz_hidden(test, nearest, nearest, coarse_min_[c], coarse_max_[c])) continue;
+      if (!blocks_hide(std::max(by0, cy * kC), std::min(by1, cy * kC + kC - 1),
+                       std::max(bx0, cx * kC), std::min(bx1, cx * kC + kC - 1)))
+        return true;
     }
   return false;
+}
+
+void HierarchicalZ::rects_visible(std::span<const ScreenRect> rects, std::span<const float> nearest,
+                                  std::span<std::uint8_t> visible, DepthTest test) const {
+  if (nearest.size() != rects.size() || visible.size() != rects.size())
+    throw Error(Errc::kInvalidArgument, "rects_visible: " + std::to_string(rects.size()) +
+                                            " rectangles, " + std::to_string(nearest.size()) +
+                                            " depths and " + std::to_string(visible.size()) +
+                                            " answers");
+  for (std::size_t i = 0; i < rects.size(); ++i)
+    visible[i] = rect_visible(rects[i], nearest[i], test) ? 1 : 0;
+}
+
+namespace {
+
+/// The box projection of the best instruction set this CPU runs, or the scalar one.
+simd::BoxProjector best_box_projector() {
+  const std::vector<Isa> isas = simd::runnable_isas();
+  const simd::BoxProjector simd = isas.empty() ? nullptr : simd::box_projector(isas.back());
+  return simd ? simd : &occlusion::project_boxes;
+}
+
+/// Boxes projected per pass: the projections of one pass stay in L1.
+constexpr std::size_t kBoxesPerPass = 256;
+
+}  // namespace
+
+void HierarchicalZ::boxes_visible(std::span<const Box> boxes, const glm::mat4& view_proj,
+                                  std::span<std::uint8_t> visible, DepthTest test,
+                                  std::span<BoxBounds> bounds) const {
+  if (visible.size() != boxes.size() || (!bounds.empty() && bounds.size() != boxes.size()))
+    throw Error(Errc::kInvalidArgument, "boxes_visible: " + std::to_string(boxes.size()) +
+                                            " boxes, " + std::to_string(visible.size()) +
+                                            " answers and " + std::to_string(bounds.size()) +
+                                            " bounds");
+  static const simd::BoxProjector project = best_box_projector();
+  const bool greater = test == DepthTest::kGreater || test == DepthTest::kGreaterEqual;
+  const occlusion::BoxView view(view_proj, width_, height_, greater);
+  occlusion::Projected projected[kBoxesPerPass];
+  for (std::size_t first = 0; first < boxes.size(); first += kBoxesPerPass) {
+    const std::size_t n = std::min(kBoxesPerPass, boxes.size() - first);
+    project(boxes.data() + first, n, view, projected);
+    for (std::size_t k = 0; k < n; ++k) {
+      const occlusion::Projected& p = projected[k];
+      const bool v =
+          empty() || (p.answered ? p.visible : rect_visible(p.bounds.rect, p.bounds.nearest, test));
+      visible[first + k] = v ? 1 : 0;
+      if (!bounds.empty()) bounds[first + k] = p.bounds;
+    }
+  }
 }
 
 bool HierarchicalZ::draw_visible(const Draw& draw) const {

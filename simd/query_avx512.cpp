@@ -1,0 +1,12 @@
+// The box-query projection compiled for avx512 (flags in simd/CMakeLists.txt). Nothing else belongs
+// here: the algorithm lives once, in engine/src/occlusion/box_project.hpp.
+#include "occlusion/box_project.hpp"
+
+namespace mosaic::simd {
+
+void project_boxes_avx512(const Box* boxes, std::size_t n, const occlusion::BoxView& view,
+                          occlusion::Projected* out) {
+  occlusion::BoxProjectSimd<xsimd::avx512bw>::run(boxes, n, view, out);
+}
+
+}  // namespace mosaic::simd
