@@ -537,6 +537,61 @@ TEST(Occlusion, RandomRectanglesAreConservativeAndExactAtBlockGranularity) {
   ASSERT_GT(truly_hidden, total / 10) << "the scenes hide too little to measure anything";
 }
 
+TEST(Occlusion, QueryPrecisionOnTheBuiltInScenes) {
+  // The measure of query precision: 20,000 random rectangles (8 to 64 px, depths 0 to 1)
+  // against the depth-only pass of each scene shaped like the occlusion benchmarks, at 1080p 1x.
+  // Exactly hidden: no sample centre inside the rectangle holds a depth farther than the query's.
+  // rect_visible() must never call a visible one hidden, and must find at least 95 % of the
+  // hidden ones on the large-triangle scene.
+  constexpr int kW = 1920, kH = 1080, kQueries = 20'000;
+  for (const char* name : {"random-small", "random-large", "slivers"}) {
+    mosaic::Scene sc = mosaic::builtin_scene(name, kW, kH, 1);
+    sc.for_each_state([](mosaic::DrawState& st) {
+      st.depth_test = DepthTest::kLess;
+      st.depth_write = true;
+      st.color_write = false;
+    });
+    const std::vector<mosaic::Draw> draws = sc.draws();
+    mosaic::Frame frame;
+    frame.draws = draws;
+    frame.keep_hierarchical_z = true;
+    mosaic::RenderTarget target(kW, kH, 1, {.keep_sample_depth = true});
+    mosaic::Renderer renderer({2});
+    renderer.render(frame, target);
+    const HierarchicalZ& hiz = renderer.hierarchical_z();
+    const std::span<const float> depth = target.sample_depth();
+    mosaic::test::Rng rng(99);
+    std::size_t hidden = 0, found = 0, wrong = 0;
+    for (int q = 0; q < kQueries; ++q) {
+      const float x0 = static_cast<float>(rng.uniform(0, kW)),
+                  y0 = static_cast<float>(rng.uniform(0, kH));
+      const ScreenRect r{x0, y0, x0 + static_cast<float>(rng.uniform(8, 64)),
+                         y0 + static_cast<float>(rng.uniform(8, 64))};
+      const float z = static_cast<float>(rng.unit());
+      bool truly_hidden = true;
+      const int px0 = static_cast<int>(std::ceil(r.x0 - 0.5f));
+      const int px1 = std::min(kW, static_cast<int>(std::ceil(r.x1 - 0.5f)));
+      const int py0 = static_cast<int>(std::ceil(r.y0 - 0.5f));
+      const int py1 = std::min(kH, static_cast<int>(std::ceil(r.y1 - 0.5f)));
+      for (int y = py0; y < py1 && truly_hidden; ++y)
+        for (int x = px0; x < px1 && truly_hidden; ++x)
+          truly_hidden = !(z < depth[static_cast<std::size_t>(y) * kW + x]);
+      const bool reported_hidden = !hiz.rect_visible(r, z);
+      hidden += truly_hidden;
+      found += truly_hidden && reported_hidden;
+      wrong += reported_hidden && !truly_hidden;
+    }
+    std::printf("%s: %d rectangles, %zu exactly hidden, %zu found hidden (%.1f %%), %zu wrong\n",
+                name, kQueries, hidden, found,
+                hidden ? 100.0 * double(found) / double(hidden) : 0.0, wrong);
+    EXPECT_EQ(wrong, 0u) << name;
+    if (std::string(name) == "random-large") {
+      ASSERT_GT(hidden, 1000u);
+      EXPECT_GE(double(found), 0.95 * double(hidden)) << name;
+    }
+  }
+}
+
 TEST(Occlusion, RandomTriangleListsAreConservative) {
   mosaic::test::Rng rng(11);
   const int w = 160, h = 112;
