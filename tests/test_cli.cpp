@@ -207,6 +207,7 @@ TEST_F(CliTest, StatsPrintsOneJsonObjectWithEveryField) {
                           "width",
                           "height",
                           "samples",
+                          "depth_only",
                           "triangles_in",
                           "triangles_nonfinite",
                           "triangles_culled_face",
@@ -247,6 +248,20 @@ TEST_F(CliTest, StatsPrintsOneJsonObjectWithEveryField) {
   EXPECT_EQ(hash.find_first_not_of("0123456789abcdef"), std::string::npos) << hash;
   const Image image = load_png("s.png");
   EXPECT_EQ(std::stoull(hash, nullptr, 16), fnv1a(image));
+}
+
+TEST_F(CliTest, DepthOnlyWritesTheSameSamplesAndNoColour) {
+  const nlohmann::json colour = stats("render star --size 64x36 --out c.png");
+  const nlohmann::json depth = stats("render star --size 64x36 --depth-only --out d.png");
+  EXPECT_EQ(depth["depth_only"], true);
+  EXPECT_EQ(colour["depth_only"], false);
+  EXPECT_EQ(depth["samples_written"], colour["samples_written"]);
+  EXPECT_GT(depth["samples_written"].get<std::uint64_t>(), 0u);
+  const Image c = load_png("c.png"), d = load_png("d.png");
+  ASSERT_EQ(d.rgba.size(), c.rgba.size());
+  EXPECT_NE(d.rgba, c.rgba);
+  for (int y = 0; y < d.height; ++y)
+    for (int x = 0; x < d.width; ++x) ASSERT_EQ(d.pixel(x, y), d.pixel(0, 0)) << x << "," << y;
 }
 
 TEST_F(CliTest, FullScreenPairWritesEverySampleExactlyOnce) {

@@ -91,6 +91,7 @@ struct RenderOptions {
   std::string depth_test;
   std::string cull;
   bool painter = false;
+  bool depth_only = false;
   int repeat = 1;
   std::string out;
   bool no_out = false;
@@ -166,6 +167,7 @@ int run_render(const RenderOptions& o) {
     const CullMode cull = cull_modes().at(o.cull);
     scene.for_each_state([&](DrawState& s) { s.cull = cull; });
   }
+  if (o.depth_only) scene.for_each_state([](DrawState& s) { s.color_write = false; });
 
   RenderTarget target(scene.width, scene.height, o.msaa);
   target.set_clear(scene.clear_color, clear_depth);
@@ -202,9 +204,10 @@ int run_render(const RenderOptions& o) {
 
   std::string line = printable(name) + " " + std::to_string(target.width()) + "x" +
                      std::to_string(target.height()) + " " + std::to_string(target.samples()) +
-                     "x" + (o.ssaa ? " ssaa" : "") + (o.painter ? " painter" : "") + ": " +
-                     format_ms(ms_median) + " ms median of " + std::to_string(o.repeat) + " (" +
-                     to_string(last.isa) + ", " + std::to_string(last.threads) +
+                     "x" + (o.ssaa ? " ssaa" : "") + (o.painter ? " painter" : "") +
+                     (o.depth_only ? " depth-only" : "") + ": " + format_ms(ms_median) +
+                     " ms median of " + std::to_string(o.repeat) + " (" + to_string(last.isa) +
+                     ", " + std::to_string(last.threads) +
                      (last.threads == 1 ? " thread)" : " threads)");
   if (out_path) line += " -> " + printable(*out_path);
   std::cerr << line << '\n';
@@ -217,6 +220,7 @@ int run_render(const RenderOptions& o) {
     j["samples"] = target.samples();
     j["ssaa"] = o.ssaa;
     j["painter"] = o.painter;
+    j["depth_only"] = o.depth_only;
     j["repeat"] = o.repeat;
     j["triangles_in"] = last.triangles_in;
     j["triangles_nonfinite"] = last.triangles_nonfinite;
@@ -275,6 +279,9 @@ Command add_render_command(CLI::App& parent) {
       ->check(CLI::IsMember(keys_of(depth_choices())));
   app->add_option("--cull", o->cull, "Face culling for every draw")
       ->check(CLI::IsMember(keys_of(cull_modes())));
+  app->add_flag("--depth-only", o->depth_only,
+                "Depth only: no draw writes colour (an occluder pass; the image is the clear "
+                "colour)");
   app->add_flag("--painter", o->painter,
                 "Painter's algorithm: no depth test, triangles sorted back to front");
   app->add_option("--repeat", o->repeat, "Render the frame N times and report the median")
