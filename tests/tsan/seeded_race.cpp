@@ -18,7 +18,7 @@ int main() {
   m.space = mosaic::Space::kScreen;
   m.color_source = mosaic::ColorSource::kConstant;
   // Two triangles over the whole 1024x1024 target: 64 tiles for the two workers to share.
-  m.positions = {{0, 0, 0.5f, 1}, {1024, 0, 0.5f, 1}, {1024, 1024, 0.5f, 1},
+  m.positions = {{0, 0, 0.5f, 1}, {1024, 0, 0.5f, 1},    {1024, 1024, 0.5f, 1},
                  {0, 0, 0.5f, 1}, {1024, 1024, 0.5f, 1}, {0, 1024, 0.5f, 1}};
   mosaic::Draw d = m.draw();
   d.shader = mosaic::make_shader(
