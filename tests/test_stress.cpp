@@ -5,6 +5,7 @@
 // options with one line and exit status 2.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -103,10 +104,12 @@ int folded_cells(const StressCase& c) {
     for (int k = 0; k < 4; ++k) {
       const glm::vec4& v = m.positions[ids[k]];
       near = near && std::abs(v.x) < 65536 && std::abs(v.y) < 65536;
-      p[k] = test::snap_fx({v.x, v.y});
     }
+    if (!near) continue;  // snapping it, or its products, would leave int64
+    for (int k = 0; k < 4; ++k)
+      p[k] = test::snap_fx({m.positions[ids[k]].x, m.positions[ids[k]].y});
     const std::int64_t side2 = cross(p[0], p[1], p[2]), side3 = cross(p[0], p[1], p[3]);
-    if (near && side2 != 0 && side3 != 0 && (side2 > 0) == (side3 > 0)) ++folded;
+    if (side2 != 0 && side3 != 0 && (side2 > 0) == (side3 > 0)) ++folded;
   }
   return folded;
 }
@@ -280,7 +283,9 @@ struct CliRun {
 };
 
 CliRun run_cli(const std::string& args) {
-  const fs::path err = fs::temp_directory_path() / "mosaic_test_stress_err.txt";
+  // One file per process: ctest runs this binary's tests in parallel processes.
+  const fs::path err =
+      fs::temp_directory_path() / ("mosaic_test_stress_err_" + std::to_string(getpid()) + ".txt");
   const std::string cmd =
       std::string(MOSAIC_CLI_PATH) + " " + args + " 2> " + err.string() + " > /dev/null";
   const int raw = std::system(cmd.c_str());
