@@ -260,28 +260,37 @@ TEST(Occlusion, ReversedDepthUsesTheGreaterTests) {
   EXPECT_TRUE(o.hiz.draw_visible(q.draw(DepthTest::kLess))) << "the wrong test sees it";
 }
 
+/// A 160×120 view from world z = 5 towards the origin, and the hierarchical z of a depth-only
+/// wall at world z = 0 (a big quad, drawn in clip space) seen through it.
+struct WallView {
+  static constexpr int w = 160, h = 120;
+  glm::mat4 vp = glm::perspectiveRH_ZO(glm::radians(60.0f), float(w) / h, 0.5f, 50.0f) *
+                 glm::lookAtRH(glm::vec3(0, 0, 5), glm::vec3(0), glm::vec3(0, 1, 0));
+  HierarchicalZ hiz;
+  WallView() {
+    const std::vector<glm::vec3> wall_xyz{{-20, -20, 0}, {20, -20, 0}, {20, 20, 0},
+                                          {-20, -20, 0}, {20, 20, 0},  {-20, 20, 0}};
+    mosaic::Draw wall;
+    wall.positions_xyz = wall_xyz;
+    wall.transform = vp;
+    wall.state.color_write = false;
+    const mosaic::Draw draws[] = {wall};
+    mosaic::Frame frame;
+    frame.draws = draws;
+    frame.keep_hierarchical_z = true;
+    mosaic::RenderTarget target(w, h);
+    mosaic::Renderer renderer({1});
+    renderer.render(frame, target);
+    hiz = renderer.hierarchical_z();
+  }
+};
+
 TEST(Occlusion, ClipSpaceBoxWithAMatrix) {
   // A unit cube seen through a perspective camera, behind or in front of a wall at z = 0 (world),
   // or reaching through the near plane.
-  const int w = 160, h = 120;
-  const glm::mat4 proj = glm::perspectiveRH_ZO(glm::radians(60.0f), float(w) / h, 0.5f, 50.0f);
-  const glm::mat4 view = glm::lookAtRH(glm::vec3(0, 0, 5), glm::vec3(0), glm::vec3(0, 1, 0));
-  const glm::mat4 vp = proj * view;
-  // The wall: a big quad at world z = 0, drawn in clip space.
-  std::vector<glm::vec3> wall_xyz{{-20, -20, 0}, {20, -20, 0}, {20, 20, 0},
-                                  {-20, -20, 0}, {20, 20, 0},  {-20, 20, 0}};
-  mosaic::Draw wall;
-  wall.positions_xyz = wall_xyz;
-  wall.transform = vp;
-  wall.state.color_write = false;
-  const mosaic::Draw draws[] = {wall};
-  mosaic::Frame frame;
-  frame.draws = draws;
-  frame.keep_hierarchical_z = true;
-  mosaic::RenderTarget target(w, h);
-  mosaic::Renderer renderer({1});
-  renderer.render(frame, target);
-  const HierarchicalZ& hiz = renderer.hierarchical_z();
+  const WallView view;
+  const glm::mat4& vp = view.vp;
+  const HierarchicalZ& hiz = view.hiz;
 
   std::vector<glm::vec3> cube;
   const std::uint32_t faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
@@ -327,24 +336,11 @@ struct BoxDraw {
 };
 
 TEST(Occlusion, BoxBatchesNearPlaneOffScreenNonFiniteAndBounds) {
-  // The wall of ClipSpaceBoxWithAMatrix at world z = 0, seen from z = 5.
-  const int w = 160, h = 120;
-  const glm::mat4 proj = glm::perspectiveRH_ZO(glm::radians(60.0f), float(w) / h, 0.5f, 50.0f);
-  const glm::mat4 vp = proj * glm::lookAtRH(glm::vec3(0, 0, 5), glm::vec3(0), glm::vec3(0, 1, 0));
-  std::vector<glm::vec3> wall_xyz{{-20, -20, 0}, {20, -20, 0}, {20, 20, 0},
-                                  {-20, -20, 0}, {20, 20, 0},  {-20, 20, 0}};
-  mosaic::Draw wall;
-  wall.positions_xyz = wall_xyz;
-  wall.transform = vp;
-  wall.state.color_write = false;
-  const mosaic::Draw draws[] = {wall};
-  mosaic::Frame frame;
-  frame.draws = draws;
-  frame.keep_hierarchical_z = true;
-  mosaic::RenderTarget target(w, h);
-  mosaic::Renderer renderer({1});
-  renderer.render(frame, target);
-  const HierarchicalZ& hiz = renderer.hierarchical_z();
+  // The wall at world z = 0, seen from z = 5.
+  const WallView view;
+  const int w = WallView::w, h = WallView::h;
+  const glm::mat4& vp = view.vp;
+  const HierarchicalZ& hiz = view.hiz;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const mosaic::Box boxes[] = {
       {{-0.2f, -0.7f, -2.5f}, {0.8f, 0.3f, -1.5f}},  // behind the wall
