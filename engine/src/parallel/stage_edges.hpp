@@ -20,8 +20,15 @@
 
 #if defined(MOSAIC_TSAN)
 #include <sanitizer/tsan_interface.h>
+
+#include <cstdint>
+// TSan's annotation for memory a custom allocator hands out again: it forgets the earlier
+// accesses to [mem, mem + size). The runtime exports it; no header declares it.
+extern "C" void AnnotateNewMemory(const char* file, int line, std::uintptr_t mem,
+                                  std::uintptr_t size);
 #endif
 
+#include <cstddef>
 #include <utility>
 
 namespace mosaic::parallel {
@@ -36,7 +43,8 @@ class StageEdges {
  public:
   /// `body` as a task. In TSan builds each copy oneTBB makes of it (one per task, in the thread
   /// that spawns that task) acquires its source and releases itself, and each call acquires the
-  /// copy it runs; both also order the reuse of a task's memory by oneTBB's allocator.
+  /// copy it runs. A copy's storage is new: oneTBB's small-object pool recycles the memory of
+  /// finished tasks in uninstrumented code, so each copy first tells TSan its bytes are fresh.
   template <class Body>
   auto task(Body body) {
     if constexpr (kTsan) {
@@ -52,11 +60,13 @@ class StageEdges {
   template <class Body>
   class Task {
    public:
-    Task(StageEdges& edges, Body body) : edges_((acquire(this), &edges)), body_(std::move(body)) {
+    Task(StageEdges& edges, Body body)
+        : edges_((fresh(this, sizeof(Task)), acquire(this), &edges)), body_(std::move(body)) {
       release(this);
     }
     Task(const Task& other)
-        : edges_((acquire(this), acquire(&other), other.edges_)), body_(other.body_) {
+        : edges_((fresh(this, sizeof(Task)), acquire(this), acquire(&other), other.edges_)),
+          body_(other.body_) {
       release(this);
     }
     Task& operator=(const Task&) = delete;
@@ -76,6 +86,11 @@ class StageEdges {
   static void release([[maybe_unused]] const void* sync) {
 #if defined(MOSAIC_TSAN)
     __tsan_release(const_cast<void*>(sync));
+#endif
+  }
+  static void fresh([[maybe_unused]] const void* storage, [[maybe_unused]] std::size_t bytes) {
+#if defined(MOSAIC_TSAN)
+    AnnotateNewMemory(__FILE__, __LINE__, reinterpret_cast<std::uintptr_t>(storage), bytes);
 #endif
   }
   static void acquire([[maybe_unused]] const void* sync) {
