@@ -2,7 +2,8 @@
 // (every view ray leaves through exactly one wall, so every sample is covered exactly once while
 // most walls cross w = 0 behind the eye), with near and far planes from 1e-4 to 1e6; and random
 // triangles whose vertices have tiny positive w (1e-30 .. 1e-7), negative w or w = -0, checked
-// sample by sample against a homogeneous oracle that never divides by w.
+// sample by sample against a homogeneous oracle that never divides by w; and screen-space
+// positions with w other than 1, which are window-homogeneous as types.hpp documents.
 //
 // What breaks them: dividing by w before clipping (a vertex behind the eye lands mirrored on
 // screen: "external" triangles), clipping against w = 0 instead of the near plane, dropping or
@@ -182,6 +183,90 @@ TEST(HardCamera, TinyAndNegativeWMatchTheHomogeneousOracle) {
   EXPECT_GT(checked, 100000u);
   EXPECT_GT(covered_total, 10000u);
   EXPECT_GT(behind, 40u);
+}
+
+// Space::kScreen is window-homogeneous: (x, y, z, w) is the pixel (x / w, y / w) at depth z / w,
+// and w weights the interpolation as clip space's w does. So a screen-space draw equals, bit for
+// bit, the clip-space draw of the same points (clip x = x / (W / 2) - w, y = w - y / (H / 2)):
+// with W, H and w powers of two and x, y on the 1/256 px grid, both give the front end the same
+// doubles. Vertices with negative w are clipped at the near plane in both.
+TEST(HardCamera, ScreenSpaceWIsHomogeneousLikeClipSpace) {
+  constexpr int kW = 64, kH = 32, kSamples = 4;
+  constexpr double kHalfW = kW / 2.0, kHalfH = kH / 2.0;
+  const double ws[] = {0.25, 0.5, 1, 2, 4, 8, -1, -2};
+  test::Rng rng(903);
+  Mesh screen = coverage_mesh(FillRule::kD3D);
+  screen.state.depth_test = DepthTest::kLess;
+  screen.color_source = ColorSource::kPerVertex;
+  Mesh unit = screen;  // the same triangles with w = 1: coverage and depth are the same
+  int behind = 0;
+  for (int t = 0; t < 40; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      // Mostly in front; one vertex in eight behind the eye.
+      const double wv = ws[rng.range(0, std::size(ws) - (t % 8 == 0 ? 1 : 3))];
+      behind += wv < 0 ? 1 : 0;
+      const double px = std::round(rng.uniform(-8, kW + 8) * 256) / 256;
+      const double py = std::round(rng.uniform(-8, kH + 8) * 256) / 256;
+      const double depth = std::round(rng.uniform(0.05, 0.95) * 1024) / 1024;
+      screen.positions.emplace_back(static_cast<float>(px * wv), static_cast<float>(py * wv),
+                                    static_cast<float>(depth * wv), static_cast<float>(wv));
+      unit.positions.emplace_back(static_cast<float>(px), static_cast<float>(py),
+                                  static_cast<float>(depth), 1.0f);
+      const Rgba8 c = test::distinct_color(static_cast<std::uint32_t>(3 * t + k));
+      screen.colors.push_back(c);
+      unit.colors.push_back(c);
+    }
+  }
+  Mesh clip = screen;
+  clip.space = Space::kClip;
+  for (glm::vec4& p : clip.positions) {
+    const double x = p.x, y = p.y, wv = p.w;
+    p.x = static_cast<float>(x / kHalfW - wv);
+    p.y = static_cast<float>(wv - y / kHalfH);
+    ASSERT_EQ((double(p.x) + wv) * kHalfW, x);  // the conversion is exact
+    ASSERT_EQ((wv - double(p.y)) * kHalfH, y);
+  }
+  const auto got = hard::render_all({screen}, {kW, kH, kSamples});
+  const auto want = hard::render_all({clip}, {kW, kH, kSamples});
+  hard::expect_paths_agree(got, "screen space, w != 1");
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(hard::differences(got[i], want[i]), 0u) << to_string(got[i].isa);
+    EXPECT_EQ(got[i].stats.triangles_clipped, want[i].stats.triangles_clipped);
+  }
+  // Not vacuous: triangles were drawn and clipped, and w changed the interpolated colours, since
+  // the same points with w = 1 give other colours where the triangles are wholly in front.
+  EXPECT_GT(got[0].stats.triangles_drawn, 20u);
+  EXPECT_GT(got[0].stats.triangles_clipped, 0u);
+  EXPECT_GT(behind, 0);
+  const auto flat = hard::render_all({unit}, {kW, kH, kSamples});
+  EXPECT_GT(hard::differences(got[0], flat[0]), 0u);
+}
+
+// A w that is the same on all three vertices of every triangle divides out exactly (by a power
+// of two here): coverage, depth and counters equal those of w = 1.
+TEST(HardCamera, ScreenSpaceUniformWDividesOut) {
+  constexpr int kW = 48, kH = 40, kSamples = 4;
+  test::Rng rng(904);
+  Mesh unit = coverage_mesh(FillRule::kOpenGL);
+  unit.state.depth_test = DepthTest::kLess;
+  for (int t = 0; t < 30; ++t) {
+    for (int k = 0; k < 3; ++k)
+      unit.positions.emplace_back(static_cast<float>(rng.uniform(-4, kW + 4)),
+                                  static_cast<float>(rng.uniform(-4, kH + 4)),
+                                  static_cast<float>(rng.uniform(0, 1)), 1.0f);
+    unit.colors.push_back(test::distinct_color(static_cast<std::uint32_t>(t)));
+  }
+  for (float wv : {0.5f, 2.0f, 64.0f}) {
+    Mesh scaled = unit;
+    for (glm::vec4& p : scaled.positions) p *= wv;
+    const auto a = hard::render_all({unit}, {kW, kH, kSamples});
+    const auto b = hard::render_all({scaled}, {kW, kH, kSamples});
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(hard::differences(a[i], b[i]), 0u) << "w = " << wv << " on " << to_string(a[i].isa);
+      EXPECT_EQ(a[i].stats.samples_written, b[i].stats.samples_written);
+    }
+    EXPECT_GT(a[0].stats.samples_written, 1000u);
+  }
 }
 
 }  // namespace

@@ -68,7 +68,12 @@ enum class BlendMode : std::uint8_t {
 /// The coordinate space of Draw::positions.
 enum class Space : std::uint8_t {
   kClip,    ///< homogeneous clip space: x, y in [-w, w] visible, depth z/w in [0, 1], w > 0
-  kScreen,  ///< pixels, y down, origin top-left; z is depth in [0, 1]; w must be 1 (.tris)
+  /// Window-homogeneous pixels, y down, origin top-left: (x, y, z, w) is the pixel (x / w, y / w)
+  /// at depth z / w in [0, 1]. Plain screen triangles have w = 1 (a .tris file's always do).
+  /// Another w means what clip space's does: it weights the interpolation perspective-correctly,
+  /// and w <= 0 is behind the eye (clipped at the near plane z >= 0). The draw equals the clip-
+  /// space draw of x_clip = x / (width / 2) - w, y_clip = w - y / (height / 2).
+  kScreen,
 };
 
 /// The instruction set the tile kernels run with.

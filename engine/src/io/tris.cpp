@@ -220,7 +220,8 @@ bool project(const Draw& draw, std::uint32_t i, double half_w, double half_h, Ou
   if (!(p.w > 0)) return false;
   const double q = 1.0 / p.w;
   if (draw.space == Space::kScreen) {
-    // Screen space is already in pixels (w is 1 in valid scenes; the front end divides anyway).
+    // Screen space is window-homogeneous: divided, as the front end does (types.hpp). A depth
+    // below 0 is kept: the renderer clips it the same way when the file is drawn.
     out = {p.x * q, p.y * q, static_cast<float>(p.z * q), p.w == 1.0};
     return std::isfinite(out.x) && std::isfinite(out.y);
   }
