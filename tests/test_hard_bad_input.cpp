@@ -198,5 +198,24 @@ TEST(HardBadInput, CliRejectsEveryKindOfBadFileWithOneLineAndStatusOne) {
   }
 }
 
+TEST(HardBadInput, CliWarnsOnceAboutAnObjVertexThatIsNotFiniteAndDrawsTheRest) {
+  Scratch s;
+  s.write("part.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nf 1 2 3\nf 1 2 4\n");
+  for (const std::string& cmd :
+       {std::string("render part.obj --no-out"), std::string("export part.obj --out x.tris")}) {
+    const CliRun r = run_cli(cmd, s.dir);
+    EXPECT_EQ(r.status, 0) << cmd << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("mosaic: warning: part.obj:4: 1 vertex has", 0), 0u) << cmd << r.err;
+    EXPECT_EQ(r.err.find("warning", 20), std::string::npos) << cmd << ": one warning: " << r.err;
+  }
+  // The export keeps the one finite triangle.
+  const std::string tris = read(s.dir / "x.tris");
+  std::size_t count = 0;
+  for (std::size_t at = tris.find("\ntri "); at != std::string::npos;
+       at = tris.find("\ntri ", at + 1))
+    ++count;
+  EXPECT_EQ(count, 1u) << tris;
+}
+
 }  // namespace
 }  // namespace mosaic

@@ -767,7 +767,10 @@ TEST(Obj, ErrorsNameTheFileAndLine) {
       {"index zero", tri + "f 0 1 2\n", Errc::kParse, ":4: "},
       {"garbage index", tri + "f a b c\n", Errc::kParse, ":4: "},
       {"garbage coordinate", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n", Errc::kParse, ":2: "},
-      {"non-finite coordinate", "v 0 0 0\nv 1 0 0\nv 0 1e999 0\nf 1 2 3\n", Errc::kParse, ":3: "},
+      {"every face uses a non-finite vertex", "v 0 0 0\nv 1 0 0\nv 0 1e999 0\nf 1 2 3\n",
+       Errc::kParse, ": every face uses a vertex that is not finite"},
+      {"non-finite w", "v 0 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Errc::kParse, ":1: "},
+      {"non-finite colour", "v 0 0 0\nv 1 0 0 0 inf 0\nv 0 1 0\nf 1 2 3\n", Errc::kParse, ":2: "},
       {"vertex with two values", "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Errc::kParse, ":1: "},
       {"no faces", tri, Errc::kParse, ": "},
       {"only a two-vertex face", tri + "f 1 2\n", Errc::kParse, ": "},
@@ -803,6 +806,60 @@ TEST(Obj, ErrorsNameTheFileAndLine) {
     EXPECT_NE(std::string(e.what()).find("missing.obj"), std::string::npos);
   }
   EXPECT_THROW(load_obj(data_file("cube.obj"), 0, 10), Error);
+}
+
+// A vertex whose position is nan, inf or past float's range culls the triangles that use it, as
+// the same draw through the API does (FrameStats::triangles_nonfinite), and nothing else: the
+// file renders bit for bit as the file without those faces, which also frames the same.
+TEST(Obj, NonFiniteVerticesCullTheirTrianglesAsADrawDoes) {
+  TempDir dir;
+  // A 5 x 5 grid of vertices on a bumpy sheet (quads fanned to two triangles each), then four
+  // bad vertices: three used by faces, one unused.
+  std::string verts;
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 5; ++i)
+      verts += "v " + std::to_string(i) + " " + std::to_string(j) + " " +
+               std::to_string((i * j) % 3 * 0.25) + "\n";
+  std::string faces;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const int a = j * 5 + i + 1;
+      faces += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " +
+               std::to_string(a + 6) + " " + std::to_string(a + 5) + "\n";
+    }
+  const std::string bad_faces = "f 1 2 26\nf 27 3 4\nf 5 28 10\n";
+  const std::string bad = "v nan 0 0\nv 0 -inf 1\nv 1e39 2 0\nv nan nan nan\n";
+  const std::string good = "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\n";
+  write_text(dir / "with.obj", verts + bad + faces + bad_faces);
+  write_text(dir / "without.obj", verts + good + faces);
+  const Scene with = load_obj(dir / "with.obj", 96, 64);
+  const Scene without = load_obj(dir / "without.obj", 96, 64);
+  ASSERT_EQ(with.warnings.size(), 1u);
+  EXPECT_EQ(with.warnings[0].rfind((dir / "with.obj").string() + ":26: 4 vertices have", 0), 0u)
+      << with.warnings[0];
+  EXPECT_NE(with.warnings[0].find("; 3 of 35 triangles use one"), std::string::npos)
+      << with.warnings[0];
+  EXPECT_TRUE(without.warnings.empty());
+  EXPECT_EQ(with.camera.view_projection, without.camera.view_projection);
+
+  auto render = [](const Scene& s, FrameStats& stats) {
+    RenderTarget t(s.width, s.height, 4);
+    t.set_clear(s.clear_color, s.clear_depth);
+    const std::vector<Draw> draws = s.draws();
+    Frame f;
+    f.draws = draws;
+    Renderer r(RendererOptions{2});
+    stats = r.render(f, t);
+    return std::vector<Rgba8>(t.color().begin(), t.color().end());
+  };
+  FrameStats a, b;
+  const std::vector<Rgba8> image_with = render(with, a), image_without = render(without, b);
+  EXPECT_EQ(a.triangles_in, b.triangles_in + 3);
+  EXPECT_EQ(a.triangles_nonfinite, 3u);
+  EXPECT_EQ(b.triangles_nonfinite, 0u);
+  EXPECT_GT(b.samples_written, 1000u);
+  EXPECT_EQ(a.samples_written, b.samples_written);
+  EXPECT_TRUE(image_with == image_without);
 }
 
 // ---- images ----

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <charconv>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 #include <system_error>
 #include <thread>
@@ -165,7 +166,9 @@ Scene load_scene(const SceneRequest& request) {
     case SceneKind::kObj: {
       if (request.seed) throw UsageError("--seed applies to built-in scenes only");
       const Size size = request.size.value_or(default_size());
-      return load_obj(request.arg, size.width, size.height);
+      Scene scene = load_obj(request.arg, size.width, size.height);
+      for (const std::string& w : scene.warnings) std::cerr << "mosaic: warning: " << w << '\n';
+      return scene;
     }
   }
   throw UsageError("unknown scene '" + request.arg + "'");

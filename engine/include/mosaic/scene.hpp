@@ -52,6 +52,10 @@ struct Scene {
   /// How the clip-space meshes were projected: `inverse(camera.view_projection) * position`
   /// gives a vertex back in world space (OBJ: model space), e.g. to view it from elsewhere.
   Camera camera;
+  /// What a loader read but cannot draw, one line each ("<file>:<line>: ..."): today an OBJ
+  /// vertex whose position is not finite (its triangles stay in the mesh and are culled when
+  /// drawn, as a draw's are). Empty for built-in scenes and .tris files.
+  std::vector<std::string> warnings;
 
   /// Draws viewing every mesh, in order (valid while the scene lives and is not modified).
   std::vector<Draw> draws() const;
@@ -97,8 +101,13 @@ void save_tris(const Scene& scene, const std::filesystem::path& path);
 /// vertices per triangle, seen by a camera that frames the mesh's bounding sphere in a
 /// width × height target (Scene::camera). Vertex colours come from the OBJ extension
 /// `v x y z r g b` if every vertex has one, otherwise from a lit shade of the face normal so
-/// that the shape reads. Throws Error{kInvalidArgument} for a size outside 1..kMaxTargetSize,
-/// Error{kParse} for a malformed file (naming the line where it can), or Error{kIo}.
+/// that the shape reads. A vertex whose x, y or z is nan, inf or past float's range is kept as
+/// NaN, so that its triangles are culled when drawn (FrameStats::triangles_nonfinite), exactly
+/// as the same draw through the API; the camera frames the other triangles, and
+/// Scene::warnings names the first such vertex's line. Throws Error{kInvalidArgument} for a
+/// size outside 1..kMaxTargetSize, Error{kParse} for a malformed file (naming the line where
+/// it can; a non-finite w or colour is malformed, and so is a file whose every face uses a
+/// non-finite vertex), or Error{kIo}.
 Scene load_obj(const std::filesystem::path& path, int width = 1920, int height = 1080);
 
 /// Writes the target's resolved image as PNG (.png, RGBA) or binary PPM (.ppm, RGB), chosen by

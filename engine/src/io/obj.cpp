@@ -8,6 +8,8 @@
 //
 // Parsing is tinyobjloader's (Debian's compiled libtinyobjloader). Polygons are fanned into
 // triangles here rather than by tinyobjloader, so that every index is checked before use.
+// A vertex position that is not finite (nan, inf, past float's range) is kept as NaN: its
+// triangles are culled when drawn, as a draw's are, and Scene::warnings says how many.
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "io/lines.hpp"
+#include "io/numbers.hpp"
 #include "io/read_file.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/scene.hpp"
@@ -58,6 +61,8 @@ constexpr double kDepthMargin = 1.05;
 constexpr double kMinNearFraction = 1e-3;
 /// Background: a dark blue-grey that every shade of the model stands out from.
 constexpr Rgba8 kClearColor{32, 32, 40, 255};
+/// The colour of a triangle with a vertex that is not finite: any will do, it is culled.
+constexpr Rgba8 kCulledColor{0, 0, 0, kOpaque};
 
 /// The camera: the bounding sphere seen from kViewDirection, depth z/w in [0, 1] over the
 /// sphere's depth range (near plane at z = 0, the front of the sphere with a margin).
@@ -113,14 +118,44 @@ std::uint8_t to_channel(double v01) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(v01, 0.0, 1.0) * kChannelMax));
 }
 
-/// Checks every vertex line (tinyobjloader reads a malformed number as 0 without a word) and
-/// returns the line numbers of the face lines tinyobjloader keeps (three or more vertices), in
-/// file order, so that an error about face k can name its line.
-std::vector<std::size_t> scan_obj(const std::string& text, const std::string& file) {
+/// How one value of a `v` line reads.
+enum class VertexValue : std::uint8_t {
+  kFinite,     ///< a number that fits a float (one too small for a double reads as 0)
+  kNotFinite,  ///< nan, inf, or past float's range
+  kMalformed,  ///< not a number
+};
+
+VertexValue read_vertex_value(std::string_view w) {
+  double v = 0;
+  const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), v);
+  const bool whole = end == w.data() + w.size();
+  if (ec == std::errc::result_out_of_range && whole)
+    return io::underflows(w) ? VertexValue::kFinite : VertexValue::kNotFinite;
+  if (ec != std::errc() || !whole) return VertexValue::kMalformed;
+  if (!std::isfinite(v) || std::fabs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+    return VertexValue::kNotFinite;
+  return VertexValue::kFinite;
+}
+
+/// What scan_obj() learns before tinyobjloader parses the file.
+struct ObjScan {
+  /// The line of each face tinyobjloader keeps (three or more vertices), in file order, so
+  /// that an error about face k can name its line.
+  std::vector<std::size_t> face_lines;
+  /// Vertices (0-based, in file order) with an x, y or z that is not finite, and their lines.
+  std::vector<std::size_t> bad_vertices, bad_vertex_lines;
+};
+
+/// Checks every vertex line (tinyobjloader reads a malformed number as 0 without a word), notes
+/// the vertices whose position is not finite, and the lines of the faces.
+ObjScan scan_obj(const std::string& text, const std::string& file) {
   // `v x y z`, optionally with w (4 values) or an r g b colour (6), or both as some tools
   // write them (7).
   constexpr int kMinVertexValues = 3, kMaxVertexValues = 7;
-  std::vector<std::size_t> lines;
+  constexpr int kPositionValues = 3;
+  ObjScan scan;
+  std::vector<std::size_t>& lines = scan.face_lines;
+  std::size_t vertices = 0;
   std::uintmax_t triangles = 0;
   io::LineReader reader(text, file);
   for (std::string_view line; reader.next(line);) {
@@ -153,12 +188,16 @@ std::vector<std::size_t> scan_obj(const std::string& text, const std::string& fi
       }
     } else if (kw == "v") {
       int count = 0;
+      bool finite = true;
       for (std::string w; words >> w;) {
-        double v = 0;
-        const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), v);
-        if (ec != std::errc() || end != w.data() + w.size() || !std::isfinite(v))
+        const VertexValue v = read_vertex_value(w);
+        // A position that is not finite culls the triangles that use the vertex, as a draw's
+        // does; w and colours are not positions, and cannot be other than finite.
+        if (v == VertexValue::kMalformed ||
+            (v == VertexValue::kNotFinite && count >= kPositionValues))
           throw Error(Errc::kParse, file + ":" + std::to_string(n) + ": vertex value '" + w +
                                         "' is not a finite number");
+        finite = finite && v == VertexValue::kFinite;
         ++count;
       }
       if (count < kMinVertexValues || count > kMaxVertexValues)
@@ -166,10 +205,15 @@ std::vector<std::size_t> scan_obj(const std::string& text, const std::string& fi
                                       ": a vertex needs 3 to 7 "
                                       "values (x y z [w] [r g b]), got " +
                                       std::to_string(count));
+      if (!finite) {
+        scan.bad_vertices.push_back(vertices);
+        scan.bad_vertex_lines.push_back(n);
+      }
+      ++vertices;
     }
   }
   io::check_scene_memory(file, triangles, kBytesPerTriangle);
-  return lines;
+  return scan;
 }
 
 /// tinyobjloader's error text, reworded as "<file>:<line>: <problem>" when it names a line.
@@ -196,7 +240,8 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
                                             std::to_string(height) + " is outside 1..16384");
   const std::string text = io::read_scene_file(path);
 
-  const std::vector<std::size_t> lines = scan_obj(text, file);
+  const ObjScan scan = scan_obj(text, file);
+  const std::vector<std::size_t>& lines = scan.face_lines;
 
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
@@ -212,11 +257,17 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
   if (!ok) throw Error(Errc::kParse, tinyobj_error(file, err));
 
   const std::size_t vertex_count = attrib.vertices.size() / 3;
-  for (std::size_t i = 0; i < attrib.vertices.size(); ++i) {
-    if (!std::isfinite(attrib.vertices[i]))
-      throw Error(Errc::kParse, file + ": vertex " + std::to_string(i / 3 + 1) +
-                                    " has a coordinate that is not finite");
-  }
+  // tinyobjloader reads "nan" and "inf" as 0: the vertices the scan found get NaN, so that
+  // their triangles are culled when drawn.
+  for (const std::size_t v : scan.bad_vertices)
+    if (v < vertex_count)
+      for (int k = 0; k < 3; ++k)
+        attrib.vertices[3 * v + k] = std::numeric_limits<tinyobj::real_t>::quiet_NaN();
+  std::vector<bool> finite(vertex_count);
+  for (std::size_t v = 0; v < vertex_count; ++v)
+    finite[v] = std::isfinite(attrib.vertices[3 * v]) &&
+                std::isfinite(attrib.vertices[3 * v + 1]) &&
+                std::isfinite(attrib.vertices[3 * v + 2]);
   const bool has_colors = attrib.colors.size() == attrib.vertices.size() && vertex_count > 0;
 
   // Triangles as vertex-index triples, checked against the vertex count.
@@ -252,22 +303,30 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
       throw Error(Errc::kParse, file + ": a face has more than 255 vertices");
   }
   if (tris.empty()) throw Error(Errc::kParse, file + ": no faces with three or more vertices");
+  auto drawable = [&](const std::array<std::size_t, 3>& t) {
+    return finite[t[0]] && finite[t[1]] && finite[t[2]];
+  };
+  const auto drawn = static_cast<std::size_t>(std::count_if(tris.begin(), tris.end(), drawable));
+  if (drawn == 0) throw Error(Errc::kParse, file + ": every face uses a vertex that is not finite");
 
-  // Bounding sphere of the vertices the faces use (centre of the box, farthest vertex).
+  // Bounding sphere of the finite vertices the faces use (centre of the box, farthest vertex).
   auto vertex = [&](std::size_t i) {
     return glm::dvec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1],
                       attrib.vertices[3 * i + 2]);
   };
-  glm::dvec3 lo = vertex(tris[0][0]), hi = lo;
+  const auto first = std::find_if(tris.begin(), tris.end(), drawable);
+  glm::dvec3 lo = vertex((*first)[0]), hi = lo;
   for (const auto& t : tris)
-    for (const std::size_t i : t) {
-      lo = glm::min(lo, vertex(i));
-      hi = glm::max(hi, vertex(i));
-    }
+    if (drawable(t))
+      for (const std::size_t i : t) {
+        lo = glm::min(lo, vertex(i));
+        hi = glm::max(hi, vertex(i));
+      }
   const glm::dvec3 centre = (lo + hi) * 0.5;
   double radius = 0;
   for (const auto& t : tris)
-    for (const std::size_t i : t) radius = std::max(radius, glm::length(vertex(i) - centre));
+    if (drawable(t))
+      for (const std::size_t i : t) radius = std::max(radius, glm::length(vertex(i) - centre));
   if (!(radius > 0) || !std::isfinite(radius)) {
     // A single point (or an overflowing extent) has no size to frame; a unit sphere will do.
     radius = 1.0;
@@ -285,7 +344,9 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
   for (const auto& t : tris) {
     const glm::dvec3 a = vertex(t[0]), b = vertex(t[1]), c = vertex(t[2]);
     std::array<Rgba8, 3> col;
-    if (has_colors) {
+    if (!drawable(t)) {
+      col.fill(kCulledColor);  // never seen: the NaN positions cull the triangle
+    } else if (has_colors) {
       for (int k = 0; k < 3; ++k) {
         const std::size_t i = t[k];
         col[k] = {to_channel(attrib.colors[3 * i]), to_channel(attrib.colors[3 * i + 1]),
@@ -315,6 +376,14 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
   scene.clear_color = kClearColor;
   scene.camera.view_projection = glm::mat4(view_projection);
   scene.meshes.push_back(std::move(mesh));
+  if (!scan.bad_vertices.empty()) {
+    const std::size_t bad = scan.bad_vertices.size(), culled = tris.size() - drawn;
+    scene.warnings.push_back(printable(
+        file + ":" + std::to_string(scan.bad_vertex_lines.front()) + ": " + std::to_string(bad) +
+        (bad == 1 ? " vertex has" : " vertices have") +
+        " a position that is not finite (the first on this line); " + std::to_string(culled) +
+        " of " + std::to_string(tris.size()) + " triangles use one and are culled when drawn"));
+  }
   return scene;
 }
 

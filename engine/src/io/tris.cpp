@@ -26,6 +26,7 @@
 
 #include "front/setup.hpp"
 #include "io/lines.hpp"
+#include "io/numbers.hpp"
 #include "io/read_file.hpp"
 #include "io/write_file.hpp"
 #include "mosaic/errors.hpp"
@@ -70,36 +71,6 @@ std::string_view strip_plus(std::string_view t) {
   return t;
 }
 
-/// For a number from_chars found out of double's range: whether it is too small (its decimal
-/// exponent is negative) rather than too large. Only the position of the first non-zero digit
-/// and the exponent are read, so 10^8 zeros cost one pass and no big arithmetic.
-bool underflows(std::string_view t) {
-  std::size_t i = (!t.empty() && (t[0] == '-' || t[0] == '+')) ? 1 : 0;
-  std::int64_t lead = 0, zeros = 0;     // digits before the point from the first non-zero one,
-  bool nonzero = false, point = false;  // and zeros after the point before it
-  for (; i < t.size() && t[i] != 'e' && t[i] != 'E'; ++i) {
-    if (t[i] == '.') {
-      point = true;
-    } else if (t[i] != '0' || nonzero) {
-      nonzero = true;
-      if (!point) ++lead;
-    } else if (point) {
-      ++zeros;
-    }
-  }
-  // The exponent, saturated: no decimal exponent past +-10^15 fits a parsed double's range.
-  constexpr std::int64_t kSaturate = 1'000'000'000'000'000;
-  std::int64_t exp = 0;
-  bool negative = false;
-  if (i < t.size()) {
-    ++i;
-    if (i < t.size() && (t[i] == '-' || t[i] == '+')) negative = t[i++] == '-';
-    for (; i < t.size(); ++i) exp = std::min(kSaturate, exp * 10 + (t[i] - '0'));
-  }
-  const std::int64_t magnitude = (lead > 0 ? lead - 1 : -(zeros + 1)) + (negative ? -exp : exp);
-  return magnitude < 0;
-}
-
 /// The parser's position, for error messages.
 struct Where {
   const std::string& file;
@@ -142,7 +113,7 @@ double parse_coordinate(std::string_view token, const char* what, const Where& w
   const bool whole = end == t.data() + t.size();
   // A value too small for double is 0 to the renderer (snapped, or as a float): a zero of its
   // sign. One too large is an error.
-  if (ec == std::errc::result_out_of_range && whole && underflows(t))
+  if (ec == std::errc::result_out_of_range && whole && io::underflows(t))
     return t[0] == '-' ? -0.0 : 0.0;
   if (ec == std::errc::result_out_of_range)
     where.fail(std::string(what) + " " + quoted(token) + " is out of range");
