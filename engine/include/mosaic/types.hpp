@@ -67,7 +67,7 @@ enum class BlendMode : std::uint8_t {
 
 /// The coordinate space of Draw::positions.
 enum class Space : std::uint8_t {
-  kClip,    ///< homogeneous clip space: x, y in [-w, w] visible, depth z/w in [0, 1], w > 0
+  kClip,  ///< homogeneous clip space: x, y in [-w, w] visible, depth z/w in [0, 1], w > 0
   /// Window-homogeneous pixels, y down, origin top-left: (x, y, z, w) is the pixel (x / w, y / w)
   /// at depth z / w in [0, 1]. Plain screen triangles have w = 1 (a .tris file's always do).
   /// Another w means what clip space's does: it weights the interpolation perspective-correctly,
