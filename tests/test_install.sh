@@ -5,9 +5,10 @@
 # CXX_FLAGS (tests/CMakeLists.txt passes its own build's values, so the examples are built with
 # the same generator, compiler and flags, sanitizers included). Gives: exit 0 if STEP passes.
 #   install   `cmake --install BUILD_DIR --prefix WORK_DIR/prefix`, and checks what it put there
-#   cmake     configures bench/examples with find_package(mosaic CONFIG) from that prefix only,
+#   cmake     configures the installed examples (share/mosaic/examples, a copy of engine/examples)
+#             with find_package(mosaic CONFIG) from that prefix only,
 #             builds every example with warnings as errors, runs them, and checks their images
-#   pkgconfig builds bench/examples/hello_triangle with `pkg-config --cflags --libs mosaic`
+#   pkgconfig builds the installed examples/hello_triangle with `pkg-config --cflags --libs mosaic`
 #   headers   compiles <mosaic/mosaic.hpp> from the installed include folder with warnings as
 #             errors, and checks that no xsimd or oneTBB header or name reaches it
 # The steps after `install` need it to have run (a ctest fixture).
@@ -67,8 +68,9 @@ check_hello_ppm() {
 
 # A PNG file: the signature, an IHDR of the expected size, and more than MIN_BYTES. stb writes a
 # flat 256×256 image in 2.8 KiB and a flat 160×90 one in 0.7 KiB (measured); the examples' images
-# are 9.8 KiB (hello_triangle), 14 KiB (scene_stats, 320×180) and 6 KiB (orbit, 160×90), so the
-# thresholds of 4 KiB and 2 KiB tell an image with content from a flat one.
+# are 9.8 KiB (hello_triangle), 14 KiB (scene_stats, 320×180), 6 KiB (orbit, 160×90) and 1.3 KiB
+# (city_occlusion, 160×90, large flat walls), so the thresholds of 4 KiB, 2 KiB and 1000 bytes
+# tell an image with content from a flat one.
 check_png() {
   file=$1 width=$2 height=$3 min_bytes=$4
   [ -s "$file" ] || fail "$file was not written"
@@ -87,7 +89,8 @@ install)
   rm -rf "$work"
   mkdir -p "$work"
   quiet "$cmake" --install "$build" --config "$config" --prefix "$prefix"
-  for f in include/mosaic/mosaic.hpp bin/mosaic; do
+  for f in include/mosaic/mosaic.hpp bin/mosaic share/mosaic/examples/CMakeLists.txt \
+    share/mosaic/examples/hello_triangle/main.cpp; do
     [ -e "$prefix/$f" ] || fail "$prefix/$f was not installed"
   done
   for f in libmosaic.a mosaicConfig.cmake mosaicConfigVersion.cmake mosaicTargets.cmake mosaic.pc; do
@@ -101,7 +104,7 @@ install)
 
 cmake)
   rm -rf "$work/examples"
-  quiet "$cmake" -S "$source/bench/examples" -B "$work/examples" -G "$generator" \
+  quiet "$cmake" -S "$prefix/share/mosaic/examples" -B "$work/examples" -G "$generator" \
     -DCMAKE_MAKE_PROGRAM="$make_program" -DCMAKE_CXX_COMPILER="$cxx" \
     -DCMAKE_BUILD_TYPE="$config" -DCMAKE_CXX_FLAGS="$cxx_flags $warnings" \
     -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
@@ -126,6 +129,14 @@ cmake)
   [ ! -e "$work/orbit/frame_0003.png" ] || fail "orbit wrote more frames than asked for"
   quiet "$bin/orbit/orbit" "$source/tests/data/cube.obj" --frames 2 --size 160 90 --no-images
   grep -q 'orbit: .*cube.obj, 12 triangles' "$work/last-$step.log" || fail "orbit did not load cube.obj"
+  # The occlusion workflow at one size and one sample for both passes, where the queries'
+  # guarantee makes the visible-only frame the very image of the full one.
+  quiet "$bin/city_occlusion/city_occlusion" --blocks 6 --objects 500 --occluder-size 160 90 \
+    --size 160 90 --samples 1 --repeat 1 --out "$work/city.png"
+  grep -q '^queries: 500 boxes in .* hidden' "$work/last-$step.log" || fail "city_occlusion ran no queries"
+  grep -q '^pixels that differ: 0 of 14400$' "$work/last-$step.log" ||
+    fail "city_occlusion: culling hidden objects changed the image: $(grep differ "$work/last-$step.log")"
+  check_png "$work/city.png" 160 90 1000
   # The version file: the examples asked for 0.1 and got it; the next minor version must be
   # refused (before 1.0 a minor release may break the API).
   next=$(echo "$version" | awk -F. '{ printf "%d.%d", $1, $2 + 1 }')
@@ -156,7 +167,7 @@ pkgconfig)
   mkdir -p "$work/pkgconfig"
   # shellcheck disable=SC2046  # the flags are meant to be split into words
   quiet "$cxx" -std=c++20 $cxx_flags $warnings $(pkg-config --cflags mosaic) \
-    "$source/bench/examples/hello_triangle/main.cpp" -o "$work/pkgconfig/hello_triangle" \
+    "$prefix/share/mosaic/examples/hello_triangle/main.cpp" -o "$work/pkgconfig/hello_triangle" \
     $(pkg-config --libs mosaic)
   quiet "$work/pkgconfig/hello_triangle" "$work/hello_pkgconfig.png"
   check_png "$work/hello_pkgconfig.png" 256 256 4096

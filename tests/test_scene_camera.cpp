@@ -1,6 +1,6 @@
 // Scene::camera (mosaic/scene.hpp): the camera a scene's clip-space meshes were projected with.
 // load_obj's clip positions taken back through inverse(camera.view_projection) must give the
-// OBJ's own vertices in face order, which is what lets a program (bench/examples/orbit) view a
+// OBJ's own vertices in face order, which is what lets a program (engine/examples/orbit) view a
 // loaded mesh from another camera. Screen-space scenes have the identity camera.
 #include <gtest/gtest.h>
 

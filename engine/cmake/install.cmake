@@ -8,6 +8,8 @@
 #   <libdir>/cmake/mosaic/                  mosaicConfig.cmake, mosaicConfigVersion.cmake, targets:
 #                                           find_package(mosaic CONFIG REQUIRED) -> mosaic::mosaic
 #   <libdir>/pkgconfig/mosaic.pc            for builds that do not use CMake
+#   share/mosaic/examples/                  the examples' sources (engine/examples), each a CMake
+#                                           project that builds against this package
 #
 # Static, not shared: libmosaic is installed as a static archive on purpose. The tests,
 # benchmarks and tools of this repository link the engine's internal stages (front/, raster/,
@@ -35,6 +37,9 @@ install(TARGETS mosaic_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/mosaic
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.hpp")
+
+install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/examples/
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/mosaic/examples)
 
 install(EXPORT mosaicTargets NAMESPACE mosaic:: DESTINATION ${MOSAIC_INSTALL_CMAKEDIR})
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/mosaicConfig.cmake.in

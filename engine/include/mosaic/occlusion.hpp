@@ -4,6 +4,13 @@
 // depth-only occluder pass, and screen rectangles or triangle lists. Gives: visible / hidden,
 // conservatively — a query reported hidden is hidden (no sample of it would pass the depth test
 // against the frame's depth); one reported visible may still be hidden.
+//
+// The workflow (engine/examples/city_occlusion): render the occluders depth-only
+// (DrawState::color_write off) into a small target of one sample with keep_hierarchical_z, for
+// example 640×360; test every object's world-space box with boxes_visible() and the same
+// view-projection; draw only the objects it reports visible. "Hidden" holds for the occluder
+// pass's samples: a final frame of higher resolution can show an object through a gap narrower
+// than one of the occluder pass's pixels.
 #pragma once
 
 #include <cstdint>
