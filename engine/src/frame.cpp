@@ -108,7 +108,15 @@ void validate_draw(const Draw& draw, std::size_t d) {
 
 }  // namespace detail
 
-void validate(const Frame& frame, const RenderTarget& /*target*/) {
+void validate(const Frame& frame, const RenderTarget& target) {
+  if (frame.color_load == LoadOp::kLoad && !target.options().keep_sample_color)
+    throw Error(Errc::kInvalidArgument,
+                "Frame::color_load is kLoad, but the target keeps no sample colour to load "
+                "(TargetOptions::keep_sample_color)");
+  if (frame.depth_load == LoadOp::kLoad && !target.options().keep_sample_depth)
+    throw Error(Errc::kInvalidArgument,
+                "Frame::depth_load is kLoad, but the target keeps no sample depth to load "
+                "(TargetOptions::keep_sample_depth)");
   for (std::size_t d = 0; d < frame.draws.size(); ++d) detail::validate_draw(frame.draws[d], d);
 }
 
@@ -121,6 +129,16 @@ std::vector<Isa> available_isas() {
 }
 
 namespace {
+
+// A frame that loads samples a target has never rendered loads its clear values.
+void start_loaded_samples(const Frame& frame, RenderTarget& target) {
+  const std::size_t n =
+      static_cast<std::size_t>(target.width()) * target.height() * target.samples();
+  if (frame.color_load == LoadOp::kLoad && target.sample_color_storage().size() != n)
+    target.sample_color_storage().assign(n, target.clear_color());
+  if (frame.depth_load == LoadOp::kLoad && target.sample_depth_storage().size() != n)
+    target.sample_depth_storage().assign(n, target.clear_depth());
+}
 
 double ms_between(std::chrono::steady_clock::time_point a,
                   std::chrono::steady_clock::time_point b) {
@@ -221,6 +239,7 @@ FrameStats Renderer::render(const Frame& frame, RenderTarget& target) {
     ~Release() { busy.store(false, std::memory_order_release); }
   } release{impl_->busy};
   validate(frame, target);
+  start_loaded_samples(frame, target);
   if (impl_->isa == Isa::kReference) return impl_->render_reference(frame, target);
   return impl_->render_fast(frame, target);
 }
@@ -361,7 +380,9 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   tf.width = W;
   tf.height = H;
   tf.keep_color = any_color || target.options().keep_sample_color;
-  tf.keep_depth = any_depth;
+  tf.keep_depth = any_depth || frame.depth_load == LoadOp::kLoad;
+  tf.load_color = frame.color_load == LoadOp::kLoad;
+  tf.load_depth = frame.depth_load == LoadOp::kLoad;
   if (tf.keep_color) {
     tf.image = target.color_storage().data();
   } else if (!target.color_filled_with(tf.clear_color)) {

@@ -33,6 +33,13 @@ struct Frame {
   /// occlusion queries, in Renderer::hierarchical_z(). Costs one pass over each tile's depth
   /// while it is in cache; without it, no block bounds are written.
   bool keep_hierarchical_z = false;
+  /// Where each sample's colour and depth start: the target's clear values, or what its
+  /// previous frame left, so that a second pass draws over the first (the result is the one
+  /// frame of both passes' draws, bit for bit). Loading reads the target's kept samples: it
+  /// needs TargetOptions::keep_sample_color for colour and keep_sample_depth for depth, or
+  /// render() throws Error{kInvalidArgument}. A target not rendered yet holds its clear values.
+  LoadOp color_load = LoadOp::kClear;
+  LoadOp depth_load = LoadOp::kClear;
 };
 
 /// One screen tile's share of a frame (FrameStats::tile_costs).

@@ -19,6 +19,12 @@ struct Rgba8 {
   friend bool operator==(const Rgba8&, const Rgba8&) = default;
 };
 
+/// What a frame's samples hold before its first triangle (Frame::color_load, depth_load).
+enum class LoadOp : std::uint8_t {
+  kClear,  ///< the target's clear value (RenderTarget::set_clear())
+  kLoad,   ///< what the target's previous frame left there: this frame draws over it
+};
+
 /// Per-sample depth comparison: a sample is written when `incoming OP stored` holds.
 enum class DepthTest : std::uint8_t {
   kLess,          ///< the default: nearer (smaller) depth wins, first writer wins ties

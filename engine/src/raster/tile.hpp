@@ -85,6 +85,9 @@ struct TileFrame {
   /// the tile neither clears nor resolves colour and `image` is left alone; without depth (no
   /// draw tests or writes it) the tile never clears it, and the depth outputs get clear_depth.
   bool keep_color = true, keep_depth = true;
+  /// The tile starts from sample_color / sample_depth (the target's previous frame) instead of
+  /// the clear values; each implies the matching keep_ and per-sample output.
+  bool load_color = false, load_depth = false;
   /// Optional hierarchical-z output: exact min / max depth of every 8×8 block of the image,
   /// ceil(width / 8) per row (Renderer::hierarchical_z()).
   float* hiz_min = nullptr;

@@ -570,6 +570,27 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
   }
 
+  // The start of a tile that draws over the previous frame: its samples inside the image from
+  // the target's kept ones, in the order resolve_tile() writes them back (after the clear, so
+  // that the pixels past the image's edge hold the clear values as always).
+  static void load_tile(Context& cx) {
+    const TileFrame& f = cx.f;
+    const TileRect& tile = cx.tile;
+    const int S = f.samples;
+    for (int y = 0; y < tile.height; ++y) {
+      for (int x = 0; x < tile.width; ++x) {
+        const int blk = (y / kBlockSize) * cx.side + x / kBlockSize;
+        const int p = (y % kBlockSize) * kBlockSize + x % kBlockSize;
+        const std::size_t in = (static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0 + x) * S;
+        for (int s = 0; s < S; ++s) {
+          const std::size_t out = (static_cast<std::size_t>(blk) * S + s) * kBlockPixels + p;
+          if (f.load_color) cx.sc.color[out] = std::bit_cast<std::uint32_t>(f.sample_color[in + s]);
+          if (f.load_depth) cx.sc.depth[out] = f.sample_depth[in + s];
+        }
+      }
+    }
+  }
+
   // The end of a tile: its hierarchical z, its image and the per-sample outputs it is asked for.
   static void resolve_tile(Context& cx) {
     const TileFrame& f = cx.f;
@@ -701,6 +722,18 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       if (!m) {  // neutral bounds: a block outside the image never widens the tile's
         sc.zmin[blk] = std::numeric_limits<float>::infinity();
         sc.zmax[blk] = -std::numeric_limits<float>::infinity();
+      }
+    }
+    if (f.load_color || f.load_depth) load_tile(cx);
+    if (f.load_depth) {
+      // Loaded depths: each block's bounds exact from them, the tile's the bounds of those.
+      cx.tile_zmin = std::numeric_limits<float>::infinity();
+      cx.tile_zmax = -std::numeric_limits<float>::infinity();
+      for (int blk = 0; blk < cx.blocks; ++blk) {
+        if (!cx.valid[blk]) continue;
+        std::tie(sc.zmin[blk], sc.zmax[blk]) = exact_block_bounds(cx, blk);
+        cx.tile_zmin = std::min(cx.tile_zmin, sc.zmin[blk]);
+        cx.tile_zmax = std::max(cx.tile_zmax, sc.zmax[blk]);
       }
     }
     for (const BinRun& run : bin) {

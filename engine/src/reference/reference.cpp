@@ -66,8 +66,16 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
 
   SampleBuffers buf;
   const std::size_t n = static_cast<std::size_t>(W) * H * S;
-  buf.color.assign(n, target.clear_color());
-  buf.depth.assign(n, target.clear_depth());
+  if (frame.color_load == LoadOp::kLoad) {
+    buf.color.assign(target.sample_color().begin(), target.sample_color().end());
+  } else {
+    buf.color.assign(n, target.clear_color());
+  }
+  if (frame.depth_load == LoadOp::kLoad) {
+    buf.depth.assign(target.sample_depth().begin(), target.sample_depth().end());
+  } else {
+    buf.depth.assign(n, target.clear_depth());
+  }
 
   for (const front::TriangleSetup& t : tris) {
     DrawState state = frame.draws[t.draw].state;
