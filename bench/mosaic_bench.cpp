@@ -284,7 +284,9 @@ struct StageRig {
     tf.clear_depth = target.clear_depth();
     tf.width = target.width();
     tf.height = target.height();
-    tf.image = target.color_storage().data();
+    const mosaic::RenderTarget::ImageSurface image = target.image_surface();
+    tf.image = image.base;
+    tf.image_stride = image.stride_bytes;
     tbb::enumerable_thread_specific<mosaic::raster::TileStats> stats;
     arena.execute([&] {
       tbb::parallel_for(

@@ -311,4 +311,32 @@ inline void expect_same(const Captured& ref, const Captured& fast, const std::st
   EXPECT_EQ(bad_pixel, 0u) << what;
 }
 
+/// Random screen-space triangles over a width × height target (and past its edges) at random
+/// depths, per-vertex colours with alpha, depth test kLess; every third draw blends.
+inline std::vector<Mesh> random_draws(int width, int height, int draws, int triangles, Rng& rng) {
+  std::vector<Mesh> out;
+  for (int d = 0; d < draws; ++d) {
+    DrawState s;
+    if (d % 3 == 2) s.blend = BlendMode::kSourceOver;
+    Mesh m = screen_mesh(s);
+    m.color_source = ColorSource::kPerVertex;
+    for (int t = 0; t < triangles; ++t) {
+      const float z = static_cast<float>(rng.uniform(0.05, 0.95));
+      const glm::dvec2 c(rng.uniform(-10, width + 10), rng.uniform(-10, height + 10));
+      const double r = rng.uniform(2, 30);
+      for (int k = 0; k < 3; ++k) {
+        m.positions.emplace_back(static_cast<float>(c.x + rng.uniform(-r, r)),
+                                 static_cast<float>(c.y + rng.uniform(-r, r)),
+                                 z + static_cast<float>(rng.uniform(-0.04, 0.04)), 1.0f);
+        m.colors.push_back({static_cast<std::uint8_t>(rng.range(0, 255)),
+                            static_cast<std::uint8_t>(rng.range(0, 255)),
+                            static_cast<std::uint8_t>(rng.range(0, 255)),
+                            static_cast<std::uint8_t>(rng.range(64, 255))});
+      }
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
 }  // namespace mosaic::test

@@ -23,34 +23,6 @@ namespace {
 // Odd sizes: edge tiles cut by the image on both axes.
 constexpr int kW = 77, kH = 53;
 
-// Random triangles over the target (and past its edges) at random depths, per-vertex colours,
-// depth test kLess; every third draw blends.
-std::vector<Mesh> random_draws(int draws, int triangles, test::Rng& rng) {
-  std::vector<Mesh> out;
-  for (int d = 0; d < draws; ++d) {
-    DrawState s;
-    if (d % 3 == 2) s.blend = BlendMode::kSourceOver;
-    Mesh m = test::screen_mesh(s);
-    m.color_source = ColorSource::kPerVertex;
-    for (int t = 0; t < triangles; ++t) {
-      const float z = static_cast<float>(rng.uniform(0.05, 0.95));
-      const glm::dvec2 c(rng.uniform(-10, kW + 10), rng.uniform(-10, kH + 10));
-      const double r = rng.uniform(2, 30);
-      for (int k = 0; k < 3; ++k) {
-        m.positions.emplace_back(static_cast<float>(c.x + rng.uniform(-r, r)),
-                                 static_cast<float>(c.y + rng.uniform(-r, r)),
-                                 z + static_cast<float>(rng.uniform(-0.04, 0.04)), 1.0f);
-        m.colors.push_back({static_cast<std::uint8_t>(rng.range(0, 255)),
-                            static_cast<std::uint8_t>(rng.range(0, 255)),
-                            static_cast<std::uint8_t>(rng.range(0, 255)),
-                            static_cast<std::uint8_t>(rng.range(64, 255))});
-      }
-    }
-    out.push_back(std::move(m));
-  }
-  return out;
-}
-
 struct Result {
   std::vector<Rgba8> color, sample_color;
   std::vector<float> sample_depth, hiz_min, hiz_max;
@@ -92,7 +64,7 @@ void expect_same(const Result& a, const Result& b, const std::string& what) {
 
 TEST(LoadOp, TwoPassesEqualOneFrameOfBothOnEveryPath) {
   test::Rng rng(5150);
-  const std::vector<Mesh> draws = random_draws(6, 40, rng);
+  const std::vector<Mesh> draws = test::random_draws(kW, kH, 6, 40, rng);
   for (int samples : {1, 4, 8, 16})
     for (bool ssaa : {false, true}) {
       if (ssaa && samples == 1) continue;
@@ -122,7 +94,7 @@ TEST(LoadOp, TwoPassesEqualOneFrameOfBothOnEveryPath) {
 // only, as one frame whose first draws write no colour.
 TEST(LoadOp, DepthLoadedUnderAClearedColourIsAnOccluderPass) {
   test::Rng rng(5151);
-  std::vector<Mesh> draws = random_draws(4, 50, rng);
+  std::vector<Mesh> draws = test::random_draws(kW, kH, 4, 50, rng);
   for (Isa isa : available_isas()) {
     Renderer r(RendererOptions{2, isa});
     RenderTarget one = test::sample_target(kW, kH, 4);
@@ -141,7 +113,7 @@ TEST(LoadOp, DepthLoadedUnderAClearedColourIsAnOccluderPass) {
 // loaded samples and the depth is cleared.
 TEST(LoadOp, ColourLoadedIntoAnEmptyFrameResolvesTheSameImage) {
   test::Rng rng(5152);
-  const std::vector<Mesh> draws = random_draws(2, 30, rng);
+  const std::vector<Mesh> draws = test::random_draws(kW, kH, 2, 30, rng);
   for (Isa isa : available_isas()) {
     Renderer r(RendererOptions{2, isa});
     RenderTarget t = test::sample_target(kW, kH, 8);
@@ -155,7 +127,7 @@ TEST(LoadOp, ColourLoadedIntoAnEmptyFrameResolvesTheSameImage) {
 
 TEST(LoadOp, AFreshTargetLoadsItsClearValues) {
   test::Rng rng(5153);
-  const std::vector<Mesh> draws = random_draws(3, 30, rng);
+  const std::vector<Mesh> draws = test::random_draws(kW, kH, 3, 30, rng);
   for (Isa isa : available_isas()) {
     Renderer r(RendererOptions{2, isa});
     RenderTarget cleared = test::sample_target(kW, kH, 4), loaded = test::sample_target(kW, kH, 4);
@@ -167,7 +139,7 @@ TEST(LoadOp, AFreshTargetLoadsItsClearValues) {
 
 TEST(LoadOp, ALoadTheTargetCannotServeIsAnErrorThatChangesNothing) {
   test::Rng rng(5154);
-  const std::vector<Mesh> draws = random_draws(1, 20, rng);
+  const std::vector<Mesh> draws = test::random_draws(kW, kH, 1, 20, rng);
   std::vector<Draw> views;
   for (const Mesh& m : draws) views.push_back(m.draw());
   for (const TargetOptions options : {TargetOptions{false, true}, TargetOptions{true, false}}) {

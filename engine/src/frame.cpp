@@ -113,10 +113,10 @@ void validate(const Frame& frame, const RenderTarget& target) {
     throw Error(Errc::kInvalidArgument,
                 "Frame::color_load is kLoad, but the target keeps no sample colour to load "
                 "(TargetOptions::keep_sample_color)");
-  if (frame.depth_load == LoadOp::kLoad && !target.options().keep_sample_depth)
+  if (frame.depth_load == LoadOp::kLoad && !target.keeps_sample_depth())
     throw Error(Errc::kInvalidArgument,
                 "Frame::depth_load is kLoad, but the target keeps no sample depth to load "
-                "(TargetOptions::keep_sample_depth)");
+                "(TargetOptions::keep_sample_depth, or a DepthView)");
   for (std::size_t d = 0; d < frame.draws.size(); ++d) detail::validate_draw(frame.draws[d], d);
 }
 
@@ -136,7 +136,9 @@ void start_loaded_samples(const Frame& frame, RenderTarget& target) {
       static_cast<std::size_t>(target.width()) * target.height() * target.samples();
   if (frame.color_load == LoadOp::kLoad && target.sample_color_storage().size() != n)
     target.sample_color_storage().assign(n, target.clear_color());
-  if (frame.depth_load == LoadOp::kLoad && target.sample_depth_storage().size() != n)
+  // (A DepthView is the caller's: it is loaded as it is.)
+  if (frame.depth_load == LoadOp::kLoad && target.options().keep_sample_depth &&
+      target.sample_depth_storage().size() != n)
     target.sample_depth_storage().assign(n, target.clear_depth());
 }
 
@@ -384,11 +386,13 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   tf.load_color = frame.color_load == LoadOp::kLoad;
   tf.load_depth = frame.depth_load == LoadOp::kLoad;
   if (tf.keep_color) {
-    tf.image = target.color_storage().data();
+    const RenderTarget::ImageSurface image = target.image_surface();
+    tf.image = image.base;
+    tf.image_stride = image.stride_bytes;
+    tf.image_bgra = image.bgra;
   } else if (!target.color_filled_with(tf.clear_color)) {
     // A depth-only frame: its image is the clear colour, written once for as long as it stays.
-    std::vector<Rgba8>& image = target.color_storage();
-    std::fill(image.begin(), image.end(), tf.clear_color);
+    target.fill_image(tf.clear_color);
     target.mark_color_filled(tf.clear_color);
   }
   if (frame.keep_hierarchical_z) {
@@ -399,10 +403,9 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     hiz.clear();
   }
   const std::size_t nsamples = static_cast<std::size_t>(W) * H * S;
-  if (target.options().keep_sample_depth) {
-    target.sample_depth_storage().resize(nsamples);
-    tf.sample_depth = target.sample_depth_storage().data();
-  }
+  const RenderTarget::DepthSurface depth = target.depth_surface();
+  tf.sample_depth = depth.base;
+  tf.depth_stride = depth.stride_floats;
   if (target.options().keep_sample_color) {
     target.sample_color_storage().resize(nsamples);
     tf.sample_color = target.sample_color_storage().data();

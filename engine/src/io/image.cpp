@@ -42,14 +42,27 @@ void append_bytes(void* context, void* data, int size) {
   out->insert(out->end(), bytes, bytes + size);
 }
 
+/// The image in r, g, b, a order, row-major without padding: the target's own, or a copy of the
+/// caller's memory it renders into.
+std::vector<Rgba8> rgba_copy(const RenderTarget& target) {
+  std::vector<Rgba8> out;
+  out.reserve(static_cast<std::size_t>(target.width()) * target.height());
+  for (int y = 0; y < target.height(); ++y)
+    for (int x = 0; x < target.width(); ++x) out.push_back(target.pixel(x, y));
+  return out;
+}
+
 std::vector<unsigned char> encode_png(const RenderTarget& target) {
   static_assert(sizeof(Rgba8) == kPngChannels, "Rgba8 must be four packed bytes");
   const int w = target.width(), h = target.height();
+  std::vector<Rgba8> copy;
+  if (target.over_caller_memory()) copy = rgba_copy(target);
+  const Rgba8* pixels = target.over_caller_memory() ? copy.data() : target.color().data();
   // The row stride is an int: kMaxTargetSize * 4 bytes is far below INT_MAX.
   static_assert(std::int64_t{kMaxTargetSize} * kPngChannels < std::numeric_limits<int>::max());
   std::vector<unsigned char> out;
-  const int ok = stbi_write_png_to_func(append_bytes, &out, w, h, kPngChannels,
-                                        target.color().data(), w * kPngChannels);
+  const int ok =
+      stbi_write_png_to_func(append_bytes, &out, w, h, kPngChannels, pixels, w * kPngChannels);
   if (ok == 0) out.clear();
   return out;
 }
@@ -59,8 +72,9 @@ std::vector<unsigned char> encode_ppm(const RenderTarget& target) {
                              std::to_string(target.height()) + "\n" + std::to_string(kPpmMaxValue) +
                              "\n";
   std::vector<unsigned char> out(header.begin(), header.end());
-  out.reserve(out.size() + target.color().size() * kPpmChannels);
-  for (const Rgba8& c : target.color()) {
+  const std::vector<Rgba8> pixels = rgba_copy(target);
+  out.reserve(out.size() + pixels.size() * kPpmChannels);
+  for (const Rgba8& c : pixels) {
     out.push_back(c.r);
     out.push_back(c.g);
     out.push_back(c.b);

@@ -78,9 +78,16 @@ struct TileFrame {
   Rgba8 clear_color;
   float clear_depth = 1.0f;
   int width = 0, height = 0;
-  Rgba8* image = nullptr;         ///< resolved output, row-major, width × height
-  float* sample_depth = nullptr;  ///< optional per-sample output ((y*W+x)*S+s)
-  Rgba8* sample_color = nullptr;  ///< optional per-sample output
+  /// Resolved output: row y starts `image_stride` bytes after row y - 1, four bytes a pixel in
+  /// r, g, b, a order, or b, g, r, a with image_bgra (a caller's surface).
+  std::uint8_t* image = nullptr;
+  std::size_t image_stride = 0;
+  bool image_bgra = false;
+  /// Optional per-sample depth output: sample s of pixel (x, y) at
+  /// sample_depth[y * depth_stride + x * S + s].
+  float* sample_depth = nullptr;
+  std::size_t depth_stride = 0;
+  Rgba8* sample_color = nullptr;  ///< optional per-sample colour output ((y*W+x)*S+s)
   /// The buffers the frame uses. Without colour (every draw depth-only, no sample colour kept)
   /// the tile neither clears nor resolves colour and `image` is left alone; without depth (no
   /// draw tests or writes it) the tile never clears it, and the depth outputs get clear_depth.

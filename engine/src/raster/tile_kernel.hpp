@@ -582,10 +582,12 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         const int blk = (y / kBlockSize) * cx.side + x / kBlockSize;
         const int p = (y % kBlockSize) * kBlockSize + x % kBlockSize;
         const std::size_t in = (static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0 + x) * S;
+        const std::size_t din =
+            static_cast<std::size_t>(tile.y0 + y) * f.depth_stride + std::size_t(tile.x0 + x) * S;
         for (int s = 0; s < S; ++s) {
           const std::size_t out = (static_cast<std::size_t>(blk) * S + s) * kBlockPixels + p;
           if (f.load_color) cx.sc.color[out] = std::bit_cast<std::uint32_t>(f.sample_color[in + s]);
-          if (f.load_depth) cx.sc.depth[out] = f.sample_depth[in + s];
+          if (f.load_depth) cx.sc.depth[out] = f.sample_depth[din + s];
         }
       }
     }
@@ -605,12 +607,14 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           const int p = (y % kBlockSize) * kBlockSize + x % kBlockSize;
           const std::size_t out =
               (static_cast<std::size_t>(tile.y0 + y) * f.width + tile.x0 + x) * S;
+          const std::size_t dout =
+              static_cast<std::size_t>(tile.y0 + y) * f.depth_stride + std::size_t(tile.x0 + x) * S;
           for (int s = 0; s < S; ++s) {
             const std::size_t in = (static_cast<std::size_t>(blk) * S + s) * kBlockPixels + p;
             // (Sample colour is asked for only from a tile that keeps colour.)
             if (f.sample_color) f.sample_color[out + s] = std::bit_cast<Rgba8>(cx.sc.color[in]);
             if (f.sample_depth)
-              f.sample_depth[out + s] = f.keep_depth ? cx.sc.depth[in] : f.clear_depth;
+              f.sample_depth[dout + s] = f.keep_depth ? cx.sc.depth[in] : f.clear_depth;
           }
         }
       }
@@ -659,7 +663,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   static void resolve_color(Context& cx) {
     const TileFrame& f = cx.f;
     resolve::ResolveSimd<A>::box_tile(cx.sc.color.get(), cx.side, f.samples, cx.tile,
-                                      cx.sc.resolved, f.image, f.width);
+                                      cx.sc.resolved, f.image, f.image_stride, f.image_bgra);
   }
 
   static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,

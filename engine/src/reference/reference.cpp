@@ -72,7 +72,7 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
     buf.color.assign(n, target.clear_color());
   }
   if (frame.depth_load == LoadOp::kLoad) {
-    buf.depth.assign(target.sample_depth().begin(), target.sample_depth().end());
+    buf.depth = target.read_sample_depth();
   } else {
     buf.depth.assign(n, target.clear_depth());
   }
@@ -127,9 +127,11 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
   }
   const auto t2 = Clock::now();
 
-  resolve::box_resolve(buf.color, S, target.color_storage());
+  std::vector<Rgba8> image(static_cast<std::size_t>(W) * H);
+  resolve::box_resolve(buf.color, S, image);
+  target.store_image(image);
   if (target.options().keep_sample_color) target.sample_color_storage() = buf.color;
-  if (target.options().keep_sample_depth) target.sample_depth_storage() = buf.depth;
+  if (target.keeps_sample_depth()) target.store_sample_depth(buf.depth);
   if (samples_out) *samples_out = std::move(buf);
   const auto t3 = Clock::now();
 

@@ -26,12 +26,15 @@ struct ResolveSimd : simd::LaneTypes<A> {
   static constexpr int kBlockPixels = raster::kBlockPixels;
   static constexpr int kVectors = kBlockPixels / L;
   static constexpr int kMaxTileSize = raster::kMaxTileSize;
+  /// The bytes of a packed pixel that stay where they are when r and b trade places.
+  static constexpr std::int32_t kGreenAlpha = static_cast<std::int32_t>(0xff00ff00u);
 
-  /// The box filter of every pixel of a tile into `image` (width `image_width`): `color` is the
-  /// tile's samples, [block][sample][pixel of block], `side` blocks a row; `resolved` is scratch
-  /// of kMaxTileSize² pixels.
+  /// The box filter of every pixel of a tile into `image` (rows `image_stride` bytes apart; b,
+  /// g, r, a order when `bgra`): `color` is the tile's samples, [block][sample][pixel of
+  /// block], `side` blocks a row; `resolved` is scratch of kMaxTileSize² pixels.
   static void box_tile(const std::uint32_t* color, int side, int S, const raster::TileRect& tile,
-                       std::uint32_t* resolved, Rgba8* image, int image_width) {
+                       std::uint32_t* resolved, std::uint8_t* image, std::size_t image_stride,
+                       bool bgra) {
     const int shift = std::countr_zero(static_cast<unsigned>(S));
     // Two channels per 32-bit lane, one in each 16-bit half (r and b, then g and a): a half's sum
     // is at most 16 * 255 + 8 < 2^16, so it never carries into the other, and after the shift
@@ -58,6 +61,9 @@ struct ResolveSimd : simd::LaneTypes<A> {
             ga = ((ga + round) >> shift) & even;
             out = rb | (ga << 8);
           }
+          // b, g, r, a for a BGRA surface: r and b trade bytes 0 and 2.
+          if (bgra)
+            out = (out & I(kGreenAlpha)) | ((out >> 16) & I(0xff)) | ((out & I(0xff)) << 16);
           // The lanes' pixels are whole rows of the block (half a row with four lanes): copied
           // row piece by row piece, not pixel by pixel.
           constexpr int kPiece = L < kBlockSize ? L : kBlockSize;
@@ -74,9 +80,10 @@ struct ResolveSimd : simd::LaneTypes<A> {
     }
     for (int y = 0; y < tile.height; ++y) {
       // Rgba8 is four bytes in r, g, b, a order, the little-endian layout of the packed words.
-      std::memcpy(
-          static_cast<void*>(image + static_cast<std::size_t>(tile.y0 + y) * image_width + tile.x0),
-          resolved + y * kMaxTileSize, sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
+      std::memcpy(image + static_cast<std::size_t>(tile.y0 + y) * image_stride +
+                      static_cast<std::size_t>(tile.x0) * sizeof(Rgba8),
+                  resolved + y * kMaxTileSize,
+                  sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
     }
   }
 };
