@@ -148,6 +148,60 @@ TEST(ApiErrors, MessagesEscapeControlAndMalformedBytes) {
   }
 }
 
+// reserve() checks its frame, and a reserved Renderer renders what a fresh one does.
+TEST(ApiErrors, ReserveChecksItsFrameAndChangesNoImage) {
+  Renderer r(RendererOptions{2});
+  for (const FrameReserve bad : {FrameReserve{0, 8, 1, 10}, FrameReserve{8, 16385, 1, 10},
+                                 FrameReserve{8, 8, 3, 10}, FrameReserve{8, 8, 4, ~0ull}}) {
+    try {
+      r.reserve(bad);
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), Errc::kInvalidArgument) << e.what();
+    }
+  }
+  test::Rng rng(31);
+  const std::vector<Mesh> meshes = test::random_draws(61, 47, 3, 2000, rng);
+  std::vector<Draw> draws;
+  for (const Mesh& m : meshes) draws.push_back(m.draw());
+  Frame f;
+  f.draws = draws;
+  RenderTarget a(61, 47, 4), b(61, 47, 4);
+  Renderer(RendererOptions{2}).render(f, a);
+  r.reserve({61, 47, 4, 6000});
+  r.render(f, b);
+  EXPECT_EQ(a.image_hash(), b.image_hash());
+}
+
+// One Renderer per thread: two render at once, each into its own target, and each image is the
+// one a lone render gives.
+TEST(ApiErrors, TwoRenderersOnTwoThreadsRenderAsAlone) {
+  test::Rng rng(32);
+  const std::vector<Mesh> meshes = test::random_draws(96, 64, 4, 500, rng);
+  std::vector<Draw> draws;
+  for (const Mesh& m : meshes) draws.push_back(m.draw());
+  Frame f;
+  f.draws = draws;
+  RenderTarget alone(96, 64, 4);
+  Renderer(RendererOptions{2}).render(f, alone);
+  std::vector<std::uint64_t> hashes[2];
+  auto work = [&](int k) {
+    Renderer r(RendererOptions{2});
+    RenderTarget t(96, 64, 4);
+    for (int i = 0; i < 20; ++i) {
+      r.render(f, t);
+      hashes[k].push_back(t.image_hash());
+    }
+  };
+  std::thread one(work, 0), two(work, 1);
+  one.join();
+  two.join();
+  for (const auto& h : hashes) {
+    ASSERT_EQ(h.size(), 20u);
+    for (std::uint64_t v : h) EXPECT_EQ(v, alone.image_hash());
+  }
+}
+
 TEST(ApiErrors, ARendererEnteredWhileItRendersThrowsBusy) {
   // Thread A renders a frame whose shader holds the frame open until the main thread has tried
   // to render with the same Renderer; that attempt must throw kBusy and leave its target alone.

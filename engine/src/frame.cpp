@@ -15,6 +15,7 @@
 #include <atomic>
 #include <bit>
 #include <chrono>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <string>
@@ -130,16 +131,17 @@ std::vector<Isa> available_isas() {
 
 namespace {
 
-// A frame that loads samples a target has never rendered loads its clear values.
+// A frame that loads samples a target has never rendered loads its clear values (the current
+// ones: set_clear() may have changed them since the buffers were made).
 void start_loaded_samples(const Frame& frame, RenderTarget& target) {
-  const std::size_t n =
-      static_cast<std::size_t>(target.width()) * target.height() * target.samples();
-  if (frame.color_load == LoadOp::kLoad && target.sample_color_storage().size() != n)
-    target.sample_color_storage().assign(n, target.clear_color());
+  if (!target.fresh()) return;
+  std::vector<Rgba8>& color = target.sample_color_storage();
+  if (frame.color_load == LoadOp::kLoad)
+    std::fill(color.begin(), color.end(), target.clear_color());
   // (A DepthView is the caller's: it is loaded as it is.)
-  if (frame.depth_load == LoadOp::kLoad && target.options().keep_sample_depth &&
-      target.sample_depth_storage().size() != n)
-    target.sample_depth_storage().assign(n, target.clear_depth());
+  std::vector<float>& depth = target.sample_depth_storage();
+  if (frame.depth_load == LoadOp::kLoad)
+    std::fill(depth.begin(), depth.end(), target.clear_depth());
 }
 
 double ms_between(std::chrono::steady_clock::time_point a,
@@ -179,7 +181,86 @@ struct Renderer::Impl {
 
   FrameStats render_fast(const Frame& frame, RenderTarget& target);
   FrameStats render_reference(const Frame& frame, RenderTarget& target);
+  void reserve(const FrameReserve& r);
 };
+
+namespace {
+
+/// Marks a Renderer busy for the scope of one call; a second call meanwhile is Error{kBusy}.
+class BusyGuard {
+ public:
+  BusyGuard(std::atomic<bool>& busy, const char* call) : busy_(busy) {
+    if (busy_.exchange(true, std::memory_order_acquire))
+      throw Error(Errc::kBusy, std::string(call) +
+                                   " entered while this Renderer renders: one render() at a "
+                                   "time, or one Renderer per thread");
+  }
+  ~BusyGuard() { busy_.store(false, std::memory_order_release); }
+  BusyGuard(const BusyGuard&) = delete;
+  BusyGuard& operator=(const BusyGuard&) = delete;
+
+ private:
+  std::atomic<bool>& busy_;
+};
+
+/// The most triangles reserve() sizes a frame for: 2^30, 256 GiB of setups, past any machine.
+constexpr std::uint64_t kMaxReservedTriangles = std::uint64_t{1} << 30;
+
+/// Bins a reserved chunk is sized for, per triangle: a small triangle touches one or two tiles.
+constexpr std::size_t kReservedTilesPerTriangle = 2;
+/// Out-of-line planes a reserved chunk is sized for, per triangle: 1/w and four colours.
+constexpr std::size_t kReservedPlanesPerTriangle = 5;
+
+/// Gives `v` room for `n` elements with its pages written (a reserve() alone leaves them to
+/// fault in during the first frame), and leaves it empty.
+template <class T>
+void touch_capacity(std::vector<T>& v, std::size_t n) {
+  if (v.capacity() < n) {
+    v.clear();
+    v.resize(n);
+  }
+  v.clear();
+}
+
+}  // namespace
+
+void Renderer::Impl::reserve(const FrameReserve& r) {
+  const int tile_size = options.tile_size ? options.tile_size : raster::tile_size_for(r.samples);
+  const bin::TileGrid grid(r.width, r.height, tile_size);
+  const std::size_t triangles = std::max<std::uint64_t>(r.triangles, 1);
+  const std::size_t nchunks = (triangles + bin::kChunkTriangles - 1) / bin::kChunkTriangles;
+  if (chunks.size() < nchunks) chunks.resize(nchunks);
+  tile_order.reserve(static_cast<std::size_t>(grid.count()));
+  parallel::StageEdges edges;
+  arena->execute(edges.task([&] {
+    tbb::parallel_for(std::size_t{0}, nchunks, edges.task([&](std::size_t i) {
+      bin::Chunk& c = chunks[i];
+      touch_capacity(c.tris, bin::kChunkTriangles);
+      touch_capacity(c.planes, bin::kChunkTriangles * kReservedPlanesPerTriangle);
+      touch_capacity(c.offsets, static_cast<std::size_t>(grid.count()) + 1);
+      touch_capacity(c.indices, bin::kChunkTriangles * kReservedTilesPerTriangle);
+      touch_capacity(c.pairs, bin::kChunkTriangles * kReservedTilesPerTriangle);
+    }));
+  }));
+  edges.join();
+}
+
+void Renderer::reserve(const FrameReserve& r) {
+  if (!impl_) throw Error(Errc::kInvalidArgument, "reserve() called on a moved-from Renderer");
+  if (r.width < 1 || r.width > kMaxTargetSize || r.height < 1 || r.height > kMaxTargetSize)
+    throw Error(Errc::kInvalidArgument, "reserve(): size " + std::to_string(r.width) + "x" +
+                                            std::to_string(r.height) + " is outside 1..16384");
+  if (raster::sample_pattern(r.samples).empty())
+    throw Error(Errc::kInvalidArgument,
+                "reserve(): sample count " + std::to_string(r.samples) + " is not 1, 4, 8 or 16");
+  if (r.triangles > kMaxReservedTriangles)
+    throw Error(Errc::kInvalidArgument, "reserve(): " + std::to_string(r.triangles) +
+                                            " triangles, more than " +
+                                            std::to_string(kMaxReservedTriangles));
+  if (impl_->isa == Isa::kReference) return;
+  const BusyGuard busy(impl_->busy, "reserve()");
+  impl_->reserve(r);
+}
 
 Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
   if (options.threads < 0 || options.threads > kMaxThreads)
@@ -214,7 +295,13 @@ Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
       impl_->parallelism = std::make_unique<tbb::global_control>(
           tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(impl_->threads));
     impl_->arena = std::make_unique<tbb::task_arena>(impl_->threads);
+    // Every worker's tile memory now, its pages written: the options fix how many there are.
     impl_->workers.resize(static_cast<std::size_t>(impl_->threads));
+    for (std::unique_ptr<Impl::Worker>& w : impl_->workers) {
+      w = std::make_unique<Impl::Worker>();
+      std::memset(w->scratch.color.get(), 0, raster::TileScratch::kValues * sizeof(std::uint32_t));
+      std::memset(w->scratch.depth.get(), 0, raster::TileScratch::kValues * sizeof(float));
+    }
   }
 }
 
@@ -232,18 +319,13 @@ int Renderer::threads() const noexcept {
 
 FrameStats Renderer::render(const Frame& frame, RenderTarget& target) {
   if (!impl_) throw Error(Errc::kInvalidArgument, "render() called on a moved-from Renderer");
-  if (impl_->busy.exchange(true, std::memory_order_acquire))
-    throw Error(Errc::kBusy,
-                "render() entered while this Renderer renders: one render() at a time, or one "
-                "Renderer per thread");
-  struct Release {
-    std::atomic<bool>& busy;
-    ~Release() { busy.store(false, std::memory_order_release); }
-  } release{impl_->busy};
+  const BusyGuard busy(impl_->busy, "render()");
   validate(frame, target);
   start_loaded_samples(frame, target);
-  if (impl_->isa == Isa::kReference) return impl_->render_reference(frame, target);
-  return impl_->render_fast(frame, target);
+  const FrameStats stats = impl_->isa == Isa::kReference ? impl_->render_reference(frame, target)
+                                                         : impl_->render_fast(frame, target);
+  target.mark_rendered();
+  return stats;
 }
 
 const HierarchicalZ& Renderer::hierarchical_z() const noexcept {

@@ -20,6 +20,9 @@ RenderTarget::RenderTarget(int width, int height, int samples, TargetOptions opt
                 "unsupported sample count " + std::to_string(samples) + " (use 1, 4, 8 or 16)");
   }
   color_.assign(static_cast<std::size_t>(width) * height, clear_color_);
+  const std::size_t n = color_.size() * static_cast<std::size_t>(samples);
+  if (options_.keep_sample_depth) sample_depth_.assign(n, clear_depth_);
+  if (options_.keep_sample_color) sample_color_.assign(n, clear_color_);
 }
 
 RenderTarget::RenderTarget(int width, int height, int samples, ColorView color, DepthView depth,
@@ -48,6 +51,8 @@ RenderTarget::RenderTarget(int width, int height, int samples, ColorView color, 
   color_view_ = color;
   depth_view_ = depth;
   options_.keep_sample_depth = false;  // the view is the kept depth
+  sample_depth_.clear();
+  sample_depth_.shrink_to_fit();
   color_.clear();
   color_.shrink_to_fit();
   color_fill_known_ = false;  // the caller's memory holds whatever it held

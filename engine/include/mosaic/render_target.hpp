@@ -15,7 +15,8 @@
 namespace mosaic {
 
 /// What a render target keeps besides the resolved image. Per-sample buffers cost memory
-/// bandwidth at the end of every frame, so they are written only when asked for.
+/// bandwidth at the end of every frame, so they are written only when asked for; the target
+/// allocates them when it is made, so that its first frame costs what the later ones do.
 struct TargetOptions {
   bool keep_sample_depth = false;  ///< write every sample's final depth to sample_depth()
   bool keep_sample_color = false;  ///< write every sample's colour to sample_color()
@@ -130,6 +131,9 @@ class RenderTarget {
   void store_image(std::span<const Rgba8> rgba);
   void store_sample_depth(std::span<const float> depth);
   std::vector<float> read_sample_depth() const;
+  /// Engine internals: whether no frame has been rendered into the target yet.
+  bool fresh() const noexcept { return fresh_; }
+  void mark_rendered() noexcept { fresh_ = false; }
   bool keeps_sample_depth() const noexcept {
     return options_.keep_sample_depth || depth_view_.values != nullptr;
   }
@@ -144,6 +148,7 @@ class RenderTarget {
   DepthView depth_view_;
   std::vector<float> sample_depth_;
   std::vector<Rgba8> sample_color_;
+  bool fresh_ = true;
   bool color_fill_known_ = true;  ///< the constructor fills color_ with color_fill_
   Rgba8 color_fill_{0, 0, 0, 255};
 };

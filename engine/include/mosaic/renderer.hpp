@@ -123,11 +123,23 @@ std::vector<Isa> available_isas();
 /// Upper bound of RendererOptions::threads: far past any machine, low enough to catch garbage.
 inline constexpr int kMaxThreads = 1024;
 
+/// The largest frame a Renderer is to render, for Renderer::reserve().
+struct FrameReserve {
+  int width = 1, height = 1, samples = 1;  ///< the target's size and sample count
+  std::uint64_t triangles = 0;             ///< triangles submitted by the frame's draws
+};
+
 /// Renders frames. Holds worker threads and per-frame memory, so keep one alive across frames.
-/// A Renderer is not thread-safe: one render() at a time. A render() that starts while another
-/// runs (from a second thread, or from a shader of the frame) throws Error{kBusy} at once and
-/// leaves both the running frame and its own target untouched. Separate Renderers may render
-/// from separate threads at the same time.
+///
+/// Threads. One render() at a time per Renderer: a render() that starts while another runs (from
+/// a second thread, or from a shader of the frame) throws Error{kBusy} at once and leaves both
+/// the running frame and its own target untouched. Separate Renderers may render from separate
+/// threads at the same time, each into its own RenderTarget: the pattern for an engine that
+/// renders two views at once is one Renderer per thread. Each has its own oneTBB arena, and
+/// oneTBB shares one pool of worker threads among all arenas of the process, so two Renderers
+/// of 2 threads on 2 cores do not run 4 busy threads. While a Renderer does not render, its
+/// const members (and the HierarchicalZ it returns) may be read from any thread, by many at
+/// once. The draws' buffers are only read: two renders may share them.
 class Renderer {
  public:
   /// Throws Error{kUnsupportedIsa} if options.isa cannot run here, and Error{kInvalidArgument}
@@ -141,6 +153,14 @@ class Renderer {
   Renderer(Renderer&&) noexcept;
   /// As the move constructor.
   Renderer& operator=(Renderer&&) noexcept;
+
+  /// Sizes and touches the memory of a frame as large as `frame` (the per-chunk setups and
+  /// bins, the tile tables), and starts the worker threads, so that the first frame of that
+  /// size costs what the later ones do. A larger frame still grows the memory as it needs; a
+  /// Renderer never shrinks it. Throws Error{kInvalidArgument} for a size outside
+  /// 1..kMaxTargetSize or a sample count other than 1, 4, 8 or 16; does nothing for
+  /// Isa::kReference, which keeps no memory between frames.
+  void reserve(const FrameReserve& frame);
 
   /// Renders one frame: clear, draws, resolve. Validates every draw first and throws
   /// Error{kIndexOutOfRange} or Error{kInvalidDraw} without touching the target; throws
