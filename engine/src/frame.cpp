@@ -171,10 +171,10 @@ struct Renderer::Impl {
     raster::TileScratch scratch;
     std::vector<raster::BinRun> runs;
   };
-  // One Worker per arena slot (tbb::this_task_arena::current_thread_index()), made on first use
-  // and kept across frames. Plain heap memory, not a tbb::enumerable_thread_specific: with that,
-  // the fuzzers' per-input leak check (LeakSanitizer) reported the scratch buffers as leaked
-  // while the renderer still held them (its elements live in oneTBB's own allocations).
+  // One Worker per arena slot (tbb::this_task_arena::current_thread_index()), made by the
+  // constructor and kept across frames. Plain heap memory, not a tbb::enumerable_thread_specific:
+  // with that, the fuzzers' per-input leak check (LeakSanitizer) reported the scratch buffers as
+  // leaked while the renderer still held them (its elements live in oneTBB's own allocations).
   std::vector<std::unique_ptr<Worker>> workers;
   HierarchicalZ hiz;              // the last frame's, when it asked for it
   std::atomic<bool> busy{false};  // a render() is running: a second one is misuse
@@ -499,9 +499,8 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, tile_order.size(), 1),
         tile_edges.task([&](const tbb::blocked_range<std::size_t>& r) {
-          std::unique_ptr<Worker>& worker =
+          const std::unique_ptr<Worker>& worker =
               workers[static_cast<std::size_t>(tbb::this_task_arena::current_thread_index())];
-          if (!worker) worker = std::make_unique<Worker>();
           raster::TileScratch& sc = worker->scratch;
           std::vector<raster::BinRun>& bin = worker->runs;
           raster::TileStats& ts = tile_stats.local();
