@@ -16,6 +16,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -424,9 +425,28 @@ TEST_F(CliTest, ExportedClipSpaceSceneKeepsItsCoverage) {
   EXPECT_EQ(replay["triangles_drawn"], direct["triangles_drawn"]);
 }
 
+TEST_F(CliTest, ShadeChoosesHowMeshesAreColoured) {
+  const std::string obj = data("cli_tetra.obj") + " --size 64x48 --no-out";
+  std::set<std::string> hashes;
+  for (const char* shade : {"flat", "normals", "lambert"}) {
+    nlohmann::json j = stats("render " + obj + " --shade " + shade);
+    EXPECT_EQ(j["shade"], shade);
+    EXPECT_EQ(j["triangles_drawn"], 4);
+    hashes.insert(j["image_hash"].get<std::string>());
+  }
+  EXPECT_EQ(hashes.size(), 3u);
+  // The knot has normals; a scene without them cannot be shaded by them (status 1, one line).
+  EXPECT_EQ(stats("render knot-30px --size 64x48 --no-out --shade normals")["shade"], "normals");
+  const CliRun r = run("render random-small --size 64x48 --no-out --shade lambert");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("has no vertex normals"), std::string::npos) << r.err;
+  EXPECT_EQ(run("render knot --shade shiny --no-out").status, 2);
+}
+
 TEST_F(CliTest, ExportAndRenderObj) {
   nlohmann::json j = stats("render " + data("cli_tetra.obj") + " --size 64x48 --out t.png");
   EXPECT_EQ(j["scene"], "cli_tetra");
+  EXPECT_EQ(j["shade"], "lambert");  // an OBJ without vertex colours is lit by default
   EXPECT_EQ(j["triangles_in"], 4);
   EXPECT_GT(j["samples_written"].get<std::uint64_t>(), 0u);
   EXPECT_EQ(load_png("t.png").width, 64);

@@ -752,6 +752,73 @@ TEST(Obj, VertexColoursAndRelativeIndicesAreUsed) {
   EXPECT_EQ(s.meshes[0].colors, expected);
 }
 
+TEST(Obj, NormalsAreTheFilesOrTheFacesAndLightTheSceneByDefault) {
+  TempDir dir;
+  // Two faces: one whose corners all name a normal (one of them not unit length), one without.
+  write_text(dir / "n.obj",
+             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+             "vn 0 0 1\nvn 0 0.6 0.8\nvn 2 0 0\n"
+             "f 1//1 2//2 3//3\n"
+             "f 2 4 3\n");
+  const Scene s = load_obj(dir / "n.obj", 64, 64);
+  EXPECT_EQ(s.default_shading, Shading::kLambert);
+  EXPECT_TRUE(s.has_normals());
+  EXPECT_TRUE(s.warnings.empty());
+  const std::vector<glm::vec3> want{{0, 0, 1}, {0, 0.6f, 0.8f}, {2, 0, 0},
+                                    {0, 0, 1}, {0, 0, 1},       {0, 0, 1}};
+  EXPECT_EQ(s.meshes[0].normals, want);  // the face normal: cross(b - a, c - a), unit here
+  // The light is the flat shade's, in model space: unit length and two-sided.
+  EXPECT_NEAR(glm::length(s.light.light_dir), 1.0f, 1e-6f);
+  EXPECT_TRUE(s.light.two_sided);
+
+  // A corner naming a normal that does not exist: its face uses the face normal, with a warning.
+  write_text(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1 0 0\nf 1//1 2//1 3//4\n");
+  const Scene b = load_obj(dir / "bad.obj", 64, 64);
+  EXPECT_EQ(b.meshes[0].normals, std::vector<glm::vec3>(3, glm::vec3(0, 0, 1)));
+  ASSERT_EQ(b.warnings.size(), 1u);
+  EXPECT_NE(b.warnings[0].find("bad.obj:5: 1 face corner names a normal that does not exist"),
+            std::string::npos)
+      << b.warnings[0];
+
+  // A file with vertex colours keeps them by default.
+  write_text(dir / "c.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n");
+  EXPECT_EQ(load_obj(dir / "c.obj", 64, 64).default_shading, Shading::kFlat);
+}
+
+TEST(Obj, ShadingByNormalsDrawsThemPerPixel) {
+  TempDir dir;
+  // A quad facing the camera's general direction, every normal +z: the normal colour is the
+  // same everywhere, 0.5 + 0.5 * (0, 0, 1).
+  write_text(dir / "q.obj",
+             "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nf 1//1 2//1 3//1 4//1\n");
+  const Scene s = load_obj(dir / "q.obj", 64, 64);
+  for (const Isa isa : {Isa::kReference, Isa::kAuto}) {
+    Renderer renderer({1, isa});
+    RenderTarget target(64, 64);
+    target.set_clear(s.clear_color);
+    const std::vector<Draw> draws = s.draws(Shading::kNormals);
+    ASSERT_EQ(draws.size(), 1u);
+    EXPECT_EQ(draws[0].varyings.size(), 3u);
+    renderer.render(Frame{draws}, target);
+    EXPECT_EQ(target.pixel(32, 32), (Rgba8{128, 128, 255, 255}));
+  }
+  // Lit, the image differs from the flat one, and both are drawn.
+  const auto image = [&](Shading shading) {
+    Renderer renderer({1, Isa::kAuto});
+    RenderTarget target(64, 64);
+    const std::vector<Draw> draws = s.draws(shading);
+    const FrameStats st = renderer.render(Frame{draws}, target);
+    EXPECT_EQ(st.triangles_drawn, 2u);
+    return target.image_hash();
+  };
+  EXPECT_NE(image(Shading::kLambert), image(Shading::kFlat));
+  // A mesh without normals cannot be shaded by them.
+  Mesh bare = s.meshes[0];
+  bare.normals.clear();
+  EXPECT_THROW(bare.draw(Shading::kLambert, s.light), Error);
+  EXPECT_NO_THROW(bare.draw(Shading::kFlat, s.light));
+}
+
 TEST(Obj, ErrorsNameTheFileAndLine) {
   TempDir dir;
   struct Case {

@@ -64,6 +64,18 @@ const std::map<std::string, CullMode>& cull_modes() {
   return modes;
 }
 
+const std::map<std::string, Shading>& shadings() {
+  static const std::map<std::string, Shading> shadings = {
+      {"flat", Shading::kFlat}, {"normals", Shading::kNormals}, {"lambert", Shading::kLambert}};
+  return shadings;
+}
+
+std::string shading_name(Shading shading) {
+  for (const auto& [name, value] : shadings())
+    if (value == shading) return name;
+  return "flat";
+}
+
 const std::map<std::string, Isa>& isa_names() {
   static const std::map<std::string, Isa> isas = {{"auto", Isa::kAuto},
                                                   {"reference", Isa::kReference},
@@ -92,6 +104,7 @@ struct RenderOptions {
   std::string cull;
   bool painter = false;
   bool depth_only = false;
+  std::string shade;
   bool reserve = false;
   int repeat = 1;
   std::string out;
@@ -169,6 +182,10 @@ int run_render(const RenderOptions& o) {
     scene.for_each_state([&](DrawState& s) { s.cull = cull; });
   }
   if (o.depth_only) scene.for_each_state([](DrawState& s) { s.color_write = false; });
+  const Shading shading = o.shade.empty() ? scene.default_shading : shadings().at(o.shade);
+  if (shading != Shading::kFlat && !scene.has_normals())
+    throw Error(Errc::kInvalidArgument,
+                "--shade " + o.shade + ": scene '" + name + "' has no vertex normals");
 
   RenderTarget target(scene.width, scene.height, o.msaa);
   target.set_clear(scene.clear_color, clear_depth);
@@ -178,7 +195,7 @@ int run_render(const RenderOptions& o) {
   renderer_options.tile_size = o.tile_size;
   Renderer renderer(renderer_options);
 
-  const std::vector<Draw> draws = scene.draws();
+  const std::vector<Draw> draws = scene.draws(shading);
   Frame frame;
   frame.draws = draws;
   frame.ssaa = o.ssaa;
@@ -213,9 +230,10 @@ int run_render(const RenderOptions& o) {
   std::string line = printable(name) + " " + std::to_string(target.width()) + "x" +
                      std::to_string(target.height()) + " " + std::to_string(target.samples()) +
                      "x" + (o.ssaa ? " ssaa" : "") + (o.painter ? " painter" : "") +
-                     (o.depth_only ? " depth-only" : "") + ": " + format_ms(ms_median) +
-                     " ms median of " + std::to_string(o.repeat) + " (" + to_string(last.isa) +
-                     ", " + std::to_string(last.threads) +
+                     (o.depth_only ? " depth-only" : "") +
+                     (shading == Shading::kFlat ? "" : " " + shading_name(shading)) + ": " +
+                     format_ms(ms_median) + " ms median of " + std::to_string(o.repeat) + " (" +
+                     to_string(last.isa) + ", " + std::to_string(last.threads) +
                      (last.threads == 1 ? " thread)" : " threads)");
   if (out_path) line += " -> " + printable(*out_path);
   std::cerr << line << '\n';
@@ -229,6 +247,7 @@ int run_render(const RenderOptions& o) {
     j["ssaa"] = o.ssaa;
     j["painter"] = o.painter;
     j["depth_only"] = o.depth_only;
+    j["shade"] = shading_name(shading);
     j["repeat"] = o.repeat;
     j["triangles_in"] = last.triangles_in;
     j["triangles_nonfinite"] = last.triangles_nonfinite;
@@ -293,6 +312,11 @@ Command add_render_command(CLI::App& parent) {
   app->add_flag("--depth-only", o->depth_only,
                 "Depth only: no draw writes colour (an occluder pass; the image is the clear "
                 "colour)");
+  app->add_option("--shade", o->shade,
+                  "How meshes are coloured: flat (their colours), normals (vertex normals as "
+                  "colours) or lambert (the normals lit per pixel). Default: lambert for an OBJ "
+                  "file without vertex colours, flat otherwise")
+      ->check(CLI::IsMember(keys_of(shadings())));
   app->add_flag("--reserve", o->reserve,
                 "Size the renderer's memory for the frame before the first one "
                 "(Renderer::reserve), so that the first frame costs what the later ones do");

@@ -8,15 +8,21 @@
 #include <cstdint>
 #include <filesystem>
 #include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 #include <string>
 #include <vector>
 
 #include "mosaic/draw.hpp"
 #include "mosaic/render_target.hpp"
+#include "mosaic/shader.hpp"
 #include "mosaic/types.hpp"
 
 namespace mosaic {
+
+/// How a Scene's meshes are coloured (the CLI's --shade): from their colours, or per pixel from
+/// their vertex normals, shown as colours or lit.
+enum class Shading { kFlat, kNormals, kLambert };
 
 /// One owned draw: the buffers a Draw points at, plus its state. The fields mean what the
 /// Draw fields of the same names mean.
@@ -27,10 +33,18 @@ struct Mesh {
   ColorSource color_source = ColorSource::kConstant;  ///< where the colour comes from
   Rgba8 color{255, 255, 255, 255};                    ///< for ColorSource::kConstant
   std::vector<Rgba8> colors;  ///< one per triangle (kPerTriangle) or per vertex (kPerVertex)
-  DrawState state;            ///< depth test and write, culling, fill rule
+  /// One per position, or empty: vertex normals (any length) in the space of the scene's light
+  /// (Scene::light), which for a clip-space mesh is the space before Camera::view_projection.
+  std::vector<glm::vec3> normals;
+  DrawState state;  ///< depth test and write, culling, fill rule
 
-  /// A Draw viewing this mesh's buffers (valid while the mesh lives and is not modified).
+  /// A Draw viewing this mesh's buffers (valid while the mesh lives and is not modified),
+  /// coloured from color_source.
   Draw draw() const;
+  /// The same Draw coloured by `shading`: kFlat is draw(); kNormals and kLambert read `normals`
+  /// as varyings 0..2 through normal_color_shader() or lambert_shader(light). Throws
+  /// Error{kInvalidArgument} for kNormals or kLambert when the mesh has no normals.
+  Draw draw(Shading shading, const Lambert& light) const;
   /// Triangles the mesh submits: indices / 3, or positions / 3 without indices.
   std::size_t triangle_count() const;
 };
@@ -57,8 +71,17 @@ struct Scene {
   /// drawn, as a draw's are). Empty for built-in scenes and .tris files.
   std::vector<std::string> warnings;
 
+  /// The light of Shading::kLambert: a direction in the normals' space and a surface colour.
+  Lambert light;
+  /// How the scene's maker suggests it be shaded (the CLI's default): kFlat, except kLambert for
+  /// an OBJ file without vertex colours.
+  Shading default_shading = Shading::kFlat;
   /// Draws viewing every mesh, in order (valid while the scene lives and is not modified).
   std::vector<Draw> draws() const;
+  /// The same, coloured by `shading` with `light` (Mesh::draw(Shading, const Lambert&)).
+  std::vector<Draw> draws(Shading shading) const;
+  /// Whether every mesh has normals, so that draws(kNormals or kLambert) succeeds.
+  bool has_normals() const;
   /// Triangles submitted by all meshes.
   std::size_t triangle_count() const;
   /// Sets every mesh's state with `f(DrawState&)`, e.g. to apply command-line options.

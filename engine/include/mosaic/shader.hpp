@@ -164,6 +164,10 @@ Shader flat_color_shader(glm::vec4 color);
 /// Built-in: the colour in varyings 0..3 (r, g, b, a in 0..1), e.g. a vertex colour attribute.
 Shader vertex_color_shader();
 
+/// Built-in: the normal in varyings 0..2 as a colour, rgb = 0.5 + 0.5 * normalize(n), alpha 1
+/// (a zero normal is grey): for looking at a mesh's normals.
+Shader normal_color_shader();
+
 /// Parameters of lambert_shader().
 struct Lambert {
   glm::vec3 light_dir{0.0f, 0.0f, 1.0f};  ///< towards the light, in the normals' space; normalised

@@ -1,10 +1,12 @@
 // io/obj.cpp — loading a Wavefront OBJ mesh with a camera that frames it.
 //
-// Takes: an OBJ file (positions `v x y z [r g b]` and faces `f`; normals, texture coordinates
-// and materials are ignored). Gives: a Scene with one clip-space Mesh. Its positions are
-// already multiplied by the camera's view-projection (so the Mesh needs no transform), three
+// Takes: an OBJ file (positions `v x y z [r g b]`, normals `vn` and faces `f`; texture
+// coordinates and materials are ignored). Gives: a Scene with one clip-space Mesh. Its positions
+// are already multiplied by the camera's view-projection (so the Mesh needs no transform), three
 // vertices per triangle, no indices, one colour per vertex: the OBJ vertex colour when every
-// vertex has one, otherwise a flat shade of the face normal so that the shape reads.
+// vertex has one, otherwise a flat shade of the face normal so that the shape reads. Each
+// vertex also gets a model-space normal, the file's where a face gives all three, else the
+// face's, and Scene::light lights them as the flat shade is lit.
 //
 // Parsing is tinyobjloader's (Debian's compiled libtinyobjloader). Polygons are fanned into
 // triangles here rather than by tinyobjloader, so that every index is checked before use.
@@ -18,7 +20,9 @@
 #include <cmath>
 #include <cstdint>
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
 #include <glm/vec3.hpp>
 #include <limits>
 #include <sstream>
@@ -112,7 +116,10 @@ constexpr int kMaxFaceVertices = std::numeric_limits<unsigned char>::max();
 /// What a fanned triangle costs while it loads: tinyobjloader's three indices, vertex count and
 /// material, then the mesh's three positions and colours.
 constexpr std::uintmax_t kBytesPerTriangle =
-    3 * sizeof(tinyobj::index_t) + 1 + sizeof(int) + 3 * (sizeof(glm::vec4) + sizeof(Rgba8));
+    3 * sizeof(tinyobj::index_t) + 1 + sizeof(int) +
+    3 * (sizeof(glm::vec4) + sizeof(Rgba8) + sizeof(glm::vec3));
+/// Albedo of Scene::light: a light grey, so that the lit normals show the shape alone.
+constexpr float kAlbedo = 0.85f;
 
 std::uint8_t to_channel(double v01) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(v01, 0.0, 1.0) * kChannelMax));
@@ -270,30 +277,50 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
                 std::isfinite(attrib.vertices[3 * v + 2]);
   const bool has_colors = attrib.colors.size() == attrib.vertices.size() && vertex_count > 0;
 
-  // Triangles as vertex-index triples, checked against the vertex count.
+  // Triangles as vertex-index triples, checked against the vertex count, and their corners'
+  // normal indices (-1 where a corner has none).
+  const std::size_t normal_count = attrib.normals.size() / 3;
   std::vector<std::array<std::size_t, 3>> tris;
+  std::vector<std::array<int, 3>> tri_normals;
+  std::size_t bad_normals = 0;  // face corners that name a normal that does not exist
+  std::string bad_normal_where;
   std::size_t face = 0;
   for (const tinyobj::shape_t& shape : shapes) {
     std::size_t base = 0;
     for (const unsigned char n : shape.mesh.num_face_vertices) {
       if (base + n > shape.mesh.indices.size())
         throw Error(Errc::kParse, file + ": inconsistent face data");
+      const auto where = [&] {
+        return lines.size() > face ? std::string(":").append(std::to_string(lines[face]))
+                                   : std::string();
+      };
+      bool face_normals_bad = false;
       for (std::size_t k = 0; k < n; ++k) {
-        const int idx = shape.mesh.indices[base + k].vertex_index;
-        if (idx < 0 || static_cast<std::size_t>(idx) >= vertex_count) {
-          const std::string where = lines.size() > face
-                                        ? std::string(":").append(std::to_string(lines[face]))
-                                        : std::string();
-          // tinyobjloader turns index i into i - 1 and a negative one into count + i.
-          throw Error(Errc::kParse, file + where + ": face " + std::to_string(face + 1) +
+        const tinyobj::index_t& idx = shape.mesh.indices[base + k];
+        // tinyobjloader turns index i into i - 1 and a negative one into count + i; a corner
+        // without a normal has normal_index -1.
+        if (idx.vertex_index < 0 || static_cast<std::size_t>(idx.vertex_index) >= vertex_count)
+          throw Error(Errc::kParse, file + where() + ": face " + std::to_string(face + 1) +
                                         " names a vertex that does not exist (" +
                                         std::to_string(vertex_count) + " vertices)");
+        // A missing normal is not worth refusing a mesh for: the face's own normal stands in.
+        const int ni = idx.normal_index;
+        if (ni < -1 || (ni >= 0 && static_cast<std::size_t>(ni) >= normal_count)) {
+          if (bad_normals++ == 0) bad_normal_where = where();
+          face_normals_bad = true;
         }
       }
       for (std::size_t k = 1; k + 1 < n; ++k) {
-        tris.push_back({static_cast<std::size_t>(shape.mesh.indices[base].vertex_index),
-                        static_cast<std::size_t>(shape.mesh.indices[base + k].vertex_index),
-                        static_cast<std::size_t>(shape.mesh.indices[base + k + 1].vertex_index)});
+        const tinyobj::index_t& i0 = shape.mesh.indices[base];
+        const tinyobj::index_t& i1 = shape.mesh.indices[base + k];
+        const tinyobj::index_t& i2 = shape.mesh.indices[base + k + 1];
+        tris.push_back({static_cast<std::size_t>(i0.vertex_index),
+                        static_cast<std::size_t>(i1.vertex_index),
+                        static_cast<std::size_t>(i2.vertex_index)});
+        tri_normals.push_back(
+            face_normals_bad
+                ? std::array<int, 3>{-1, -1, -1}
+                : std::array<int, 3>{i0.normal_index, i1.normal_index, i2.normal_index});
       }
       base += n;
       ++face;
@@ -341,8 +368,20 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
   mesh.color_source = ColorSource::kPerVertex;
   mesh.positions.reserve(3 * tris.size());
   mesh.colors.reserve(3 * tris.size());
-  for (const auto& t : tris) {
+  mesh.normals.reserve(3 * tris.size());
+  for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+    const auto& t = tris[ti];
     const glm::dvec3 a = vertex(t[0]), b = vertex(t[1]), c = vertex(t[2]);
+    const std::array<int, 3>& ni = tri_normals[ti];
+    if (ni[0] >= 0 && ni[1] >= 0 && ni[2] >= 0) {
+      for (const int i : ni)
+        mesh.normals.emplace_back(attrib.normals[3 * static_cast<std::size_t>(i)],
+                                  attrib.normals[3 * static_cast<std::size_t>(i) + 1],
+                                  attrib.normals[3 * static_cast<std::size_t>(i) + 2]);
+    } else {
+      const glm::vec3 face_normal(glm::cross(b - a, c - a));  // any length: shaders normalise
+      mesh.normals.insert(mesh.normals.end(), {face_normal, face_normal, face_normal});
+    }
     std::array<Rgba8, 3> col;
     if (!drawable(t)) {
       col.fill(kCulledColor);  // never seen: the NaN positions cull the triangle
@@ -375,6 +414,11 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
   scene.height = height;
   scene.clear_color = kClearColor;
   scene.camera.view_projection = glm::mat4(view_projection);
+  // The flat shade's light, taken from view space to model space (the view's rotation is
+  // orthonormal: its inverse is its transpose), two-sided as the flat shade is.
+  scene.light = {glm::vec3(glm::transpose(glm::dmat3(view)) * light), glm::vec3(kAlbedo),
+                 static_cast<float>(kAmbient), static_cast<float>(kDiffuse), true};
+  scene.default_shading = has_colors ? Shading::kFlat : Shading::kLambert;
   scene.meshes.push_back(std::move(mesh));
   if (!scan.bad_vertices.empty()) {
     const std::size_t bad = scan.bad_vertices.size(), culled = tris.size() - drawn;
@@ -384,6 +428,12 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
         " a position that is not finite (the first on this line); " + std::to_string(culled) +
         " of " + std::to_string(tris.size()) + " triangles use one and are culled when drawn"));
   }
+  if (bad_normals > 0)
+    scene.warnings.push_back(printable(
+        file + bad_normal_where + ": " + std::to_string(bad_normals) +
+        (bad_normals == 1 ? " face corner names" : " face corners name") +
+        " a normal that does not exist (the first on this line); their faces use the face "
+        "normal"));
   return scene;
 }
 

@@ -549,19 +549,24 @@ Scene knot(Scene scene, double width_px) {
   scene.clear_color = rgb(20, 22, 30);  // dark blue-grey, as the orbit example's
   scene.camera.view_projection = glm::mat4(vp);
 
-  // Second walk: clip-space positions, and Lambert light baked into the vertex colours:
-  // albedo * (ambient + diffuse * max(0, n·l)), lit from the upper left and the front.
+  // Second walk: clip-space positions, world-space normals, and Lambert light baked into the
+  // vertex colours: albedo * (ambient + diffuse * max(0, n·l)), lit from the upper left and the
+  // front. Scene::light is the same light, for drawing the normals lit per pixel instead.
   const glm::dvec3 light = glm::normalize(glm::dvec3(-0.5, 0.9, 0.6));
   const glm::dvec3 albedo(0.95, 0.55, 0.30);  // warm copper
   constexpr double kAmbient = 0.15, kDiffuse = 0.85;
+  scene.light = {glm::vec3(light), glm::vec3(albedo), static_cast<float>(kAmbient),
+                 static_cast<float>(kDiffuse), false};
   Mesh m;
   m.space = Space::kClip;
   m.color_source = ColorSource::kPerVertex;
   const std::size_t vertices = static_cast<std::size_t>(kKnotU) * kKnotV;
   m.positions.reserve(vertices);
   m.colors.reserve(vertices);
+  m.normals.reserve(vertices);
   for_each_knot_vertex(around, [&](const glm::dvec3& p, const glm::dvec3& normal) {
     m.positions.push_back(glm::vec4(vp * glm::dvec4(p, 1.0)));
+    m.normals.push_back(glm::vec3(normal));
     const double shade = kAmbient + kDiffuse * std::max(0.0, glm::dot(normal, light));
     // Round half up (shade * albedo is in [0, 1]): exact, and no libm call.
     const auto channel = [&](double a) { return static_cast<int>(255.0 * a * shade + 0.5); };

@@ -5,6 +5,10 @@
 // validates every draw it is given.
 #include "mosaic/scene.hpp"
 
+#include <string>
+
+#include "mosaic/errors.hpp"
+
 namespace mosaic {
 
 Draw Mesh::draw() const {
@@ -19,6 +23,20 @@ Draw Mesh::draw() const {
   return d;
 }
 
+Draw Mesh::draw(Shading shading, const Lambert& light) const {
+  Draw d = draw();
+  if (shading == Shading::kFlat) return d;
+  if (normals.empty())
+    throw Error(Errc::kInvalidArgument, "a mesh without normals cannot be shaded by them");
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "normals are read as 3 floats each");
+  static constexpr std::uint32_t kNormalVaryings[] = {0, 1, 2};
+  d.attributes = {&normals[0].x, 3 * normals.size()};
+  d.attribute_count = 3;
+  d.varyings = kNormalVaryings;
+  d.shader = shading == Shading::kNormals ? normal_color_shader() : lambert_shader(light);
+  return d;
+}
+
 std::size_t Mesh::triangle_count() const {
   return (indices.empty() ? positions.size() : indices.size()) / 3;
 }
@@ -28,6 +46,19 @@ std::vector<Draw> Scene::draws() const {
   out.reserve(meshes.size());
   for (const Mesh& m : meshes) out.push_back(m.draw());
   return out;
+}
+
+std::vector<Draw> Scene::draws(Shading shading) const {
+  std::vector<Draw> out;
+  out.reserve(meshes.size());
+  for (const Mesh& m : meshes) out.push_back(m.draw(shading, light));
+  return out;
+}
+
+bool Scene::has_normals() const {
+  for (const Mesh& m : meshes)
+    if (m.normals.empty()) return false;
+  return true;
 }
 
 std::size_t Scene::triangle_count() const {

@@ -16,6 +16,17 @@ Shader vertex_color_shader() {
   return make_shader([](const Fragment& f) { return f.varying4(0); }, 4);
 }
 
+Shader normal_color_shader() {
+  return make_shader(
+      [](const Fragment& f) {
+        const float nx = f.varying(0), ny = f.varying(1), nz = f.varying(2);
+        const float len2 = nx * nx + ny * ny + nz * nz;
+        const float s = len2 > 0.0f ? 0.5f / std::sqrt(len2) : 0.0f;
+        return glm::vec4(0.5f + nx * s, 0.5f + ny * s, 0.5f + nz * s, 1.0f);
+      },
+      3);
+}
+
 Shader lambert_shader(const Lambert& params) {
   // The light is normalised once, in double, so that every pixel divides nothing but the normal.
   const double lx = params.light_dir.x, ly = params.light_dir.y, lz = params.light_dir.z;
