@@ -355,8 +355,7 @@ TEST(FrontSimd, SnapTiesGuardBandAndExtremeMagnitudes) {
   }
 }
 
-// Shader draws: without varyings the lanes set them up (with an empty varying range at the
-// planes' end), with varyings the scalar code does.
+// Shader draws, with and without varyings: the lanes set up q and the varying planes.
 TEST(FrontSimd, ShaderDrawsWithAndWithoutVaryings) {
   const ScreenScene scene(203, 3);
   std::vector<float> attributes;
@@ -372,6 +371,76 @@ TEST(FrontSimd, ShaderDrawsWithAndWithoutVaryings) {
   d.attribute_count = 4;
   d.varyings = varyings;
   EXPECT_GT(expect_same(d).drawn, 0u);
+}
+
+// Varying planes in lanes, at their limits: a perspective (clip-space, indexed) mesh with the
+// most varyings a draw may have, read in a shuffled order from a wider vertex; values that are
+// signed zeros, subnormal, huge enough that a plane overflows float (the constant-plane
+// fallback), infinite or NaN; per-triangle colours beside the shader; culled back faces.
+TEST(FrontSimd, VaryingPlanesInLanesAtTheirLimits) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<glm::vec3> xyz;
+  for (int t = 0; t < 700; ++t) {
+    const glm::vec3 c(u(rng) * 30.0f, u(rng) * 20.0f, -u(rng) * 40.0f - 45.0f);
+    // Mostly small triangles, some large, some slivers thinner than a 16.8 step.
+    const float size = t % 7 == 0 ? 25.0f : 0.4f;
+    const glm::vec3 a = c + size * glm::vec3(u(rng), u(rng), u(rng));
+    const glm::vec3 b = c + size * glm::vec3(u(rng), u(rng), u(rng));
+    xyz.insert(xyz.end(), {a, b,
+                           t % 11 == 0 ? a + (b - a) * 0.5f + glm::vec3(0, 1e-4f, 0)
+                                       : c + size * glm::vec3(u(rng), u(rng), u(rng))});
+  }
+  std::vector<std::uint32_t> indices;
+  for (std::uint32_t i = 0; i + 2 < xyz.size(); i += 3)
+    for (std::uint32_t k : {0u, 1u, 2u, 2u, 1u, 0u}) indices.push_back(i + k);
+  const glm::mat4 proj = glm::perspective(1.0f, float(kWidth) / kHeight, 1.0f, 200.0f);
+  const glm::mat4 to_unit_depth(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 1);
+
+  constexpr std::uint32_t kStride = kMaxVaryings + 3;  // wider than what is read
+  const float specials[] = {0.0f,
+                            -0.0f,
+                            1e-40f,
+                            3e38f,
+                            -3e38f,
+                            std::numeric_limits<float>::infinity(),
+                            std::numeric_limits<float>::quiet_NaN(),
+                            1.0f};
+  std::vector<float> attributes;
+  for (std::size_t v = 0; v < xyz.size(); ++v)
+    for (std::uint32_t a = 0; a < kStride; ++a)
+      attributes.push_back(rng() % 16 == 0 ? specials[rng() % std::size(specials)]
+                                           : u(rng) * static_cast<float>(1 + a));
+  std::vector<std::uint32_t> varyings;
+  for (std::uint32_t k = 0; k < static_cast<std::uint32_t>(kMaxVaryings); ++k)
+    varyings.push_back((k * 7 + 2) % kStride);
+  std::vector<Rgba8> tri_colors;
+  for (std::size_t t = 0; t < indices.size() / 3; ++t)
+    tri_colors.push_back({static_cast<std::uint8_t>(t), 1, 2, 3});
+
+  Draw d;
+  d.space = Space::kClip;
+  d.positions_xyz = xyz;
+  d.transform = to_unit_depth * proj;
+  d.indices = indices;
+  d.attributes = attributes;
+  d.attribute_count = kStride;
+  d.shader = vertex_color_shader();
+  for (const std::size_t count : {std::size_t{4}, std::size_t{5}, varyings.size()}) {
+    for (const CullMode cull : {CullMode::kNone, CullMode::kBack}) {
+      SCOPED_TRACE(testing::Message() << count << " varyings, cull " << int(cull));
+      d.varyings = std::span<const std::uint32_t>(varyings).first(count);
+      d.state.cull = cull;
+      d.color_source = cull == CullMode::kBack ? ColorSource::kPerTriangle : ColorSource::kConstant;
+      d.colors =
+          cull == CullMode::kBack ? std::span<const Rgba8>(tri_colors) : std::span<const Rgba8>();
+      const front::FrontStats s = expect_same(d);
+      EXPECT_GT(s.drawn, 500u);
+      if (cull == CullMode::kBack) {
+        EXPECT_GT(s.culled_face, 500u);
+      }
+    }
+  }
 }
 
 }  // namespace

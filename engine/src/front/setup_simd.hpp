@@ -8,8 +8,8 @@
 // code's operations in the scalar code's order (IEEE add, sub, mul and div are correctly rounded,
 // and the build disables FMA contraction), so each lane gets the scalar bits. A triangle any lane
 // finds uncommon (non-finite, needing clipping, on the eye point) is redone by the scalar front
-// end (TriangleFrontEnd) in its place in submission order, and a draw with varyings is left to
-// the scalar front end whole.
+// end (TriangleFrontEnd) in its place in submission order. A shader draw's varying planes are
+// set up in lanes too, as setup_varyings() sets them up.
 //
 // The snapped 16.8 coordinates, areas and edge functions are integers below 2^50, computed in
 // double lanes: exact, as in the scalar int64 code (fixed_point.hpp has the bit budget).
@@ -39,7 +39,8 @@ struct FrontEndSimd {
   struct Vertices {
     alignas(64) double X[3][N], Y[3][N], Z[3][N], W[3][N];
     alignas(64) double color[3][kColorChannels][N];
-    std::uint32_t nonfinite = 0;  ///< lanes with a NaN or infinite coordinate
+    alignas(64) double vary[3][kMaxVaryings][N];  ///< a shader draw's varyings (nvary of them)
+    std::uint32_t nonfinite = 0;                  ///< lanes with a NaN or infinite coordinate
     /// X, Y, Z, W hold Draw::positions as they are: setup() does the rest of VertexFetch (the
     /// non-finite test and the viewport map) in lanes.
     bool raw = false;
@@ -62,6 +63,7 @@ struct FrontEndSimd {
     alignas(64) double x0[N], y0[N], z_min[N], z_max[N];
     PlaneLanes z, q;
     PlaneLanes c_q[kColorChannels];
+    PlaneLanes vary_q[kMaxVaryings];  ///< varying k·q, when the draw has varyings
   };
 
   static D load(const double* p) { return D::load_aligned(p); }
@@ -105,11 +107,25 @@ struct FrontEndSimd {
     for (int ch = 0; ch < kColorChannels; ++ch) v.color[k][ch][l] = c[ch];
   }
 
+  /// The shader's varyings of triangle t's corners into lane l, as TriangleFrontEnd::run() reads
+  /// them (float attributes widened to double).
+  static void fetch_varyings(const TriangleFrontEnd& scalar, std::uint32_t t, int l, Vertices& v) {
+    const Draw& draw = scalar.fetch.draw;
+    for (int k = 0; k < 3; ++k) {
+      const float* row = draw.attributes.data() +
+                         static_cast<std::size_t>(scalar.fetch.vertex(t, k)) * draw.attribute_count;
+      for (int j = 0; j < scalar.nvary; ++j) v.vary[k][j][l] = row[draw.varyings[j]];
+    }
+  }
+
   /// Fetches triangles t0 .. t0 + n - 1 into lanes; the lanes past n repeat lane 0, so that they
   /// compute something harmless (their results are not read).
   static void fetch(const TriangleFrontEnd& scalar, std::uint32_t t0, int n, Vertices& v) {
     const Draw& draw = scalar.fetch.draw;
     v.nonfinite = 0;
+    if (scalar.nvary > 0)
+      for (int l = 0; l < N; ++l)
+        fetch_varyings(scalar, t0 + static_cast<std::uint32_t>(l < n ? l : 0), l, v);
     v.raw = draw.positions_xyz.empty();
     if (v.raw) {  // the common case, where VertexFetch's remaining work is cheaper in lanes
       for (int l = 0; l < N; ++l) {
@@ -144,7 +160,7 @@ struct FrontEndSimd {
 
   /// clip_triangle()'s classification, the perspective divide and setup_triangle(), in lanes.
   static void setup(const Vertices& v, const VertexFetch& fetch, int width, int height,
-                    bool per_vertex, const SampleSpots& spots, Results& r) {
+                    bool per_vertex, int nvary, const SampleSpots& spots, Results& r) {
     const DrawState& state = fetch.draw.state;
     constexpr double kGuard = kGuardBandPx;
     const D w(static_cast<double>(width)), h(static_cast<double>(height));
@@ -297,6 +313,16 @@ struct FrontEndSimd {
                      r.c_q[ch]);
       }
     }
+    if (nvary > 0) {  // setup_varyings(): q, then each varying times q
+      const D qmax = max3(Qo[0], Qo[1], Qo[2]);
+      const D qn[3] = {Qo[0] / qmax, Qo[1] / qmax, Qo[2] / qmax};
+      make_plane(Xs, Ys, area_px2, qn[0], qn[1], qn[2], r.q);
+      for (int k = 0; k < nvary; ++k) {
+        const D a[3] = {load(v.vary[0][k]), load(v.vary[1][k]), load(v.vary[2][k])};
+        const auto ao = oriented(a);
+        make_plane(Xs, Ys, area_px2, ao[0] * qn[0], ao[1] * qn[1], ao[2] * qn[2], r.vary_q[k]);
+      }
+    }
   }
 
   static Plane plane(const PlaneLanes& p, int l) {
@@ -340,15 +366,29 @@ struct FrontEndSimd {
     ts.draw = draw_index;
   }
 
+  /// Appends lane l's varying planes to `planes` as setup_varyings() does: q and each varying
+  /// times q, or, if one of them overflows float, constant planes of corner 0's values.
+  static void store_varyings(const Results& r, const Vertices& v, int l, int nvary,
+                             std::vector<Plane>& planes, TriangleSetup& ts) {
+    ts.planes_base = static_cast<std::uint32_t>(planes.size());
+    planes.push_back(plane(r.q, l));
+    bool ok = is_finite(planes.back());
+    for (int k = 0; k < nvary; ++k) {
+      planes.push_back(plane(r.vary_q[k], l));
+      ok = ok && is_finite(planes.back());
+    }
+    if (ok) return;
+    Plane* p = planes.data() + ts.planes_base;
+    p[0] = {1.0f, 0.0f, 0.0f};
+    // Corner 0 is never swapped by the orientation.
+    for (int k = 0; k < nvary; ++k) p[1 + k] = {static_cast<float>(v.vary[0][k][l]), 0.0f, 0.0f};
+  }
+
   /// run_front_end() with the common case in lanes.
   static void run(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                   std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
                   FrontStats& stats, std::vector<Plane>* planes, int samples) {
     TriangleFrontEnd scalar(draw, draw_index, width, height, out, stats, planes, samples);
-    if (scalar.nvary > 0) {  // varying planes: the scalar code's, per triangle
-      for (std::uint32_t t = begin; t < end; ++t) scalar.run(t);
-      return;
-    }
     // Batch i is fetched into vertices[i % 2] while batch i - 1 is set up. setup()'s vector loads
     // then find fetch()'s scalar stores in the cache rather than still in flight: a load that
     // spans several in-flight stores waits for them all (store forwarding fails). With the build
@@ -366,7 +406,7 @@ struct FrontEndSimd {
       if (end - t0 > static_cast<std::uint32_t>(N))
         fetch(scalar, t0 + N, batch_size(t0 + N), vertices[cur ^ 1]);
       const Vertices& v = vertices[cur];
-      setup(v, scalar.fetch, width, height, scalar.per_vertex, scalar.spots, r);
+      setup(v, scalar.fetch, width, height, scalar.per_vertex, scalar.nvary, scalar.spots, r);
       for (int l = 0; l < n; ++l) {
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l);
         const std::uint32_t bit = 1u << l;
@@ -386,7 +426,9 @@ struct FrontEndSimd {
         } else {
           const Rgba8 flat =
               draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
-          store(r, v, l, scalar.per_vertex, flat, draw_index, planes, out.emplace_back());
+          TriangleSetup& ts = out.emplace_back();
+          store(r, v, l, scalar.per_vertex, flat, draw_index, planes, ts);
+          if (scalar.nvary > 0) store_varyings(r, v, l, scalar.nvary, *planes, ts);
           ++stats.drawn;
         }
       }
