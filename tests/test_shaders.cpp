@@ -563,6 +563,116 @@ TEST(Shaders, PainterSortedTranslucentShadedDrawsMatchTheReference) {
   }
 }
 
+// The kernels pack a shader's partly covered batches (16 pixels of a block: two of its rows)
+// from many triangles into one call, and shade a whole batch at once after writing what was
+// packed before. In screen space, per 8×8 block:
+//  - a rectangle exactly over rows 0-1 (a whole batch), and one a pixel short (15 pixels);
+//  - 40 tiny translucent triangles stacked on the same few pixels (the queue holds one pixel
+//    many times, fills past 16 entries, and must blend in order);
+//  - a flat-colour draw between two shaded ones (the queue is written before the next draw);
+//  - a triangle over a whole block and queued pixels, in the same draw (whole batches after
+//    partial ones).
+// Colour is a non-linear function of the varyings, so a pixel given another's lane shows. Every
+// ISA, sample count, SSAA, the painter's order, 1 and 2 threads and two tile sizes, against the
+// reference.
+TEST(Shaders, PackedBatchesMatchTheReferenceAtTheirThresholds) {
+  constexpr int kW = 48, kH = 40;
+  std::vector<glm::vec4> pos;
+  std::vector<float> attr;
+  const auto vertex = [&](float x, float y, float z, float a, float b) {
+    pos.emplace_back(x, y, z, 1.0f);
+    attr.insert(attr.end(), {a, b, 0.6f});
+  };
+  const auto rect = [&](float x0, float y0, float x1, float y1, float z) {
+    vertex(x0, y0, z, x0 * 0.37f, y0 * 0.11f);
+    vertex(x1, y0, z, x1 * 0.37f, y0 * 0.11f);
+    vertex(x1, y1, z, x1 * 0.37f, y1 * 0.11f);
+    vertex(x0, y0, z, x0 * 0.37f, y0 * 0.11f);
+    vertex(x1, y1, z, x1 * 0.37f, y1 * 0.11f);
+    vertex(x0, y1, z, x0 * 0.37f, y1 * 0.11f);
+  };
+  rect(8, 8, 16, 10, 0.5f);  // rows 0-1 of block (1, 1): a whole batch
+  rect(24, 8, 32, 9, 0.5f);  // 8 + 7 pixels of block (3, 1)'s first batch
+  rect(24, 9, 31, 10, 0.5f);
+  const auto first_draw = static_cast<std::uint32_t>(pos.size());
+  std::uint32_t seed = 7;
+  const auto next = [&] {
+    seed = seed * 1664525u + 1013904223u;
+    return static_cast<float>(seed >> 8) / static_cast<float>(1u << 24);
+  };
+  for (int i = 0; i < 40; ++i) {  // stacked tiny triangles around (13, 21) and (35, 30)
+    const float cx = i % 2 ? 13.0f : 35.0f, cy = i % 2 ? 21.0f : 30.0f;
+    for (int k = 0; k < 3; ++k)
+      vertex(cx + 3.0f * next() - 1.5f, cy + 3.0f * next() - 1.5f,
+             0.9f - 0.01f * static_cast<float>(i), next() * 5, next() * 3);
+  }
+  const auto stack = static_cast<std::uint32_t>(pos.size()) - first_draw;
+  // One triangle over all of block (4, 3), in front of the queued pixels at (35, 30).
+  vertex(32, 24, 0.2f, 1.0f, 2.0f);
+  vertex(56, 24, 0.2f, 4.0f, 2.5f);
+  vertex(32, 48, 0.2f, 1.5f, 7.0f);
+  const std::uint32_t last = 3;
+  const std::span<const glm::vec4> all(pos);
+  const std::span<const float> all_attr(attr);
+
+  const std::vector<std::uint32_t> varyings{0, 1, 2};
+  const Shader wavy = make_shader(
+      [](const Fragment& f) {
+        const float a = f.varying(0), b = f.varying(1);
+        return glm::vec4(a * a - std::floor(a * a), b - std::floor(b), f.varying(2),
+                         0.3f + 0.1f * a);
+      },
+      3);
+  const auto shaded = [&](std::size_t first, std::size_t count) {
+    Draw d;
+    d.space = Space::kScreen;
+    d.positions = all.subspan(first, count);
+    d.attributes = all_attr.subspan(3 * first, 3 * count);
+    d.attribute_count = 3;
+    d.varyings = varyings;
+    d.shader = wavy;
+    d.state.blend = BlendMode::kSourceOver;
+    d.state.depth_test = DepthTest::kLessEqual;
+    return d;
+  };
+  Draw flat;
+  flat.space = Space::kScreen;
+  flat.positions = all.subspan(first_draw, 6);  // the stack's first two triangles again, flat
+  flat.color = {200, 10, 10, 255};
+  flat.state.depth_test = DepthTest::kAlways;
+  flat.state.depth_write = false;
+  // The stack and the block over it are one draw: the block's whole batches come after the
+  // stack's queued pixels.
+  const std::vector<Draw> draws{shaded(0, first_draw), shaded(first_draw, stack + last), flat,
+                                shaded(first_draw, stack)};
+  struct Mode {
+    int samples;
+    bool ssaa;
+  };
+  for (const bool painter : {false, true}) {
+    for (const Mode m : {Mode{1, false}, Mode{4, false}, Mode{4, true}, Mode{16, false}}) {
+      const Image ref = render(draws, kW, kH, m.samples, m.ssaa, Isa::kReference, 1, painter);
+      for (const Isa isa : simd_isas())
+        for (const int threads : {1, 2})
+          expect_same(ref, render(draws, kW, kH, m.samples, m.ssaa, isa, threads, painter),
+                      std::to_string(m.samples) + "x ssaa " + std::to_string(m.ssaa) + " " +
+                          to_string(isa) + " threads " + std::to_string(threads) + " painter " +
+                          std::to_string(painter));
+    }
+  }
+  // 8 px tiles: the stacks straddle tiles, and a tile's queue holds fewer triangles.
+  RenderTarget small(kW, kH, 4, TargetOptions{true, true});
+  const Image ref = render(draws, kW, kH, 4, false, Isa::kReference, 1);
+  RendererOptions options;
+  options.threads = 2;
+  options.tile_size = 8;
+  Renderer r(options);
+  Frame frame;
+  frame.draws = draws;
+  small.set_clear(kBackground);
+  expect_same(ref, test::capture(r, frame, small), "8 px tiles");
+}
+
 TEST(Shaders, DeterministicAcrossThreadCounts) {
   const int w = 300, h = 200;
   const GroundPlane plane(w, h);

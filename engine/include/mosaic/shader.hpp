@@ -19,9 +19,10 @@
 // Contract. A shader must be a pure function of each lane's inputs: lane l's output may depend
 // only on x[l], y[l] and varying[k][l] (and the callable's own constant state). The fast path
 // shades lanes whose pixels are partly covered at pixel centres that may lie just outside the
-// triangle (its varyings are then extrapolated, as on a GPU), the reference shades one lane at a
-// time, and both must agree bit for bit. It is called concurrently from the worker threads, so it
-// must be safe to call from several threads at once (a const callable is).
+// triangle (its varyings are then extrapolated, as on a GPU), and packs pixels of several
+// triangles into one batch, so which lane a pixel gets is unspecified; the reference shades one
+// lane at a time, and both must agree bit for bit. It is called concurrently from the worker
+// threads, so it must be safe to call from several threads at once (a const callable is).
 #pragma once
 
 #include <cstdint>
@@ -82,7 +83,9 @@ class Fragment {
   glm::vec4 varying4(int k) const {
     return {varying(k), varying(k + 1), varying(k + 2), varying(k + 3)};
   }
-  int lane() const { return lane_; }  ///< this pixel's lane in the batch
+  /// This pixel's lane in the batch (which lane a pixel gets is unspecified: the colour must
+  /// not depend on it).
+  int lane() const { return lane_; }
 
  private:
   const ShaderInput* in_;

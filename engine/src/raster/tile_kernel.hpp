@@ -109,6 +109,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     /// then needs neither s nor v, only the vector's index k.
     F sx[kMaxSamples * kVectors], sy[kMaxSamples * kVectors];
     std::int64_t soff[2][kMaxSamples];  ///< sample offset from the pixel corner, in 16.8
+    /// A shader draw's pixels waiting for a whole batch; written before anything else colours
+    /// the tile (another draw's run, the resolve).
+    typename Sh::ShadeQueue queue;
   };
 
   using TriangleFn = void (*)(Context&, const front::TriangleSetup&);
@@ -460,8 +463,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     const TileFrame& f = cx.f;
     const int S = f.samples;
     std::uint32_t* cblk = cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
-    Sh::color_block(cx.ln, t, f.shading[t.draw], f.states[t.draw].blend == BlendMode::kSourceOver,
-                    f.ssaa, S, cblk, px0, py0, passed);
+    Sh::color_block(cx.ln, cx.queue, t, f.shading[t.draw],
+                    f.states[t.draw].blend == BlendMode::kSourceOver, f.ssaa, S, cblk, px0, py0,
+                    passed);
   }
 
   // Coverage of one sample of a block from the edge values b0..b2 at that sample of its first
@@ -684,6 +688,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                {},
                {},
                {},
+               {},
                {}};
     for (int v = 0; v < kVectors; ++v) {
       cx.col[v] = lane_col(v);
@@ -696,6 +701,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       // The reference's sample position is px + 0.5 + dx / 16; every term and sum is exact.
       cx.ln.ox[s] = F(0.5f + static_cast<float>(o.dx) * (1.0f / 16.0f));
       cx.ln.oy[s] = F(0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f));
+      cx.ln.oxs[s] = 0.5f + static_cast<float>(o.dx) * (1.0f / 16.0f);
+      cx.ln.oys[s] = 0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f);
       cx.soff[0][s] = kHalf + o.dx * kSampleOffsetScale;
       cx.soff[1][s] = kHalf + o.dy * kSampleOffsetScale;
       for (int v = 0; v < kVectors; ++v) {
@@ -766,9 +773,13 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           }
         }
         const front::TriangleSetup& t = run.tris[idx[k]];
-        if (mixed) kernels = pick(f, t.draw);
+        if (mixed) {
+          if (cx.queue.n && cx.queue.shading != &f.shading[t.draw]) Sh::flush(cx.queue);
+          kernels = pick(f, t.draw);
+        }
         (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
       }
+      Sh::flush(cx.queue);
     }
     const auto r0 = std::chrono::steady_clock::now();
     resolve_tile(cx);

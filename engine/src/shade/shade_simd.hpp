@@ -4,7 +4,8 @@
 //
 // Takes: a triangle's setup and planes, and the lanes' pixel positions in a block. Gives: packed
 // RGBA8 lanes, or, for a shaded draw, the colour samples of a block where its samples passed the
-// depth test, blended when the draw blends.
+// depth test, blended when the draw blends. A shader's partly covered batches wait in a queue
+// (ShadeQueue) that packs the pixels of many triangles and blocks into whole batches.
 #pragma once
 
 #include <bit>
@@ -35,7 +36,21 @@ struct ShadeSimd : simd::LaneTypes<A> {
   struct Lanes {
     F colf[kVectors], rowf[kVectors];
     F ox[raster::kMaxSamples], oy[raster::kMaxSamples];
+    float oxs[raster::kMaxSamples], oys[raster::kMaxSamples];  ///< ox, oy as scalars
     const front::Plane* planes = nullptr;
+  };
+
+  /// Pixels (MSAA) or samples (SSAA) of one shader draw that wait for a shader call. They are
+  /// gathered from any triangles and blocks of a tile, so that a call shades up to kShaderBatch
+  /// of them: a small triangle covers a few lanes of a block's batch, and a call costs the whole
+  /// batch. Entries are written in the order they were queued, so draw order and blending hold.
+  struct ShadeQueue {
+    ShaderInput in;                        ///< the entries' positions and varyings, lane by lane
+    std::uint32_t* color[kShaderBatch];    ///< each entry's first colour sample
+    std::uint32_t samples[kShaderBatch];   ///< bit s: write color[l] + s * kBlockPixels
+    int n = 0;                             ///< entries queued
+    const DrawShading* shading = nullptr;  ///< the draw of every entry queued
+    bool blend = false;                    ///< whether that draw blends
   };
 
   static std::int32_t bits_of(Rgba8 c) { return std::bit_cast<std::int32_t>(c); }
@@ -126,34 +141,129 @@ struct ShadeSimd : simd::LaneTypes<A> {
     in.active = active;
     in.varying_count = sh.varyings;
     sh.function(sh.state, in, res);
+    pack_output(res, out);
+  }
+
+  // A shader's output lanes as packed RGBA8 (shade::output_to_unorm8() lane-wise).
+  static void pack_output(const ShaderOutput& res, I (&out)[kBatchVectors]) {
     for (int j = 0; j < kBatchVectors; ++j) {
       const F c255(255.0f);
       const I r = unorm8(F::load_aligned(res.r + j * L) * c255);
-      const I gg = unorm8(F::load_aligned(res.g + j * L) * c255);
+      const I g = unorm8(F::load_aligned(res.g + j * L) * c255);
       const I b = unorm8(F::load_aligned(res.b + j * L) * c255);
       const I a = unorm8(F::load_aligned(res.a + j * L) * c255);
-      out[j] = r | (gg << 8) | (b << 16) | (a << 24);
+      out[j] = r | (g << 8) | (b << 16) | (a << 24);
+    }
+  }
+
+  /// Queues one pixel or sample at shading position (x, y) of triangle t: its varyings as
+  /// batch_colors() computes them lane-wise (shade::varying_at()), and the colour samples it
+  /// writes. A full queue is shaded and written at once.
+  static void enqueue(ShadeQueue& q, const front::TriangleSetup& t, const front::Plane* planes,
+                      float x, float y, std::uint32_t* color, std::uint32_t samples) {
+    const int l = q.n++;
+    q.in.x[l] = x;
+    q.in.y[l] = y;
+    const int nv = q.shading->varyings;
+    if (nv > 0) {
+      const front::Plane* p = planes + t.planes_base;  // q, then the varyings
+      const float qv = front::eval_plane(p[0], t.x0, t.y0, x, y);
+      for (int k = 0; k < nv; ++k)
+        q.in.varying[k][l] = front::eval_plane(p[1 + k], t.x0, t.y0, x, y) / qv;
+    }
+    q.color[l] = color;
+    q.samples[l] = samples;
+    if (q.n == kShaderBatch) flush(q);
+  }
+
+  /// Shades the queued entries in one call (the lanes past them inactive, all zeros) and writes
+  /// their colour samples in queue order, blended when the draw blends.
+  static void flush(ShadeQueue& q) {
+    if (q.n == 0) return;
+    const int n = q.n;
+    q.n = 0;
+    const DrawShading& sh = *q.shading;
+    for (int l = n; l < kShaderBatch; ++l) {
+      q.in.x[l] = q.in.y[l] = 0.0f;
+      for (int k = 0; k < sh.varyings; ++k) q.in.varying[k][l] = 0.0f;
+    }
+    q.in.active = static_cast<std::uint32_t>((std::uint64_t{1} << n) - 1);
+    q.in.varying_count = sh.varyings;
+    ShaderOutput res;
+    sh.function(sh.state, q.in, res);
+    I packed[kBatchVectors];
+    pack_output(res, packed);
+    alignas(64) std::int32_t c[kShaderBatch];
+    for (int j = 0; j < kBatchVectors; ++j) packed[j].store_aligned(c + j * L);
+    for (int l = 0; l < n; ++l) {
+      for (std::uint32_t bits = q.samples[l]; bits; bits &= bits - 1) {
+        std::uint32_t* word = q.color[l] + std::countr_zero(bits) * kBlockPixels;
+        const auto src = std::bit_cast<Rgba8>(c[l]);
+        *word = std::bit_cast<std::uint32_t>(
+            q.blend ? shade::blend_over(src, std::bit_cast<Rgba8>(*word)) : src);
+      }
+    }
+  }
+
+  /// The partly covered batch g of a block, into the queue: each pixel with a passed sample, at
+  /// its centre with the samples that passed (MSAA), or, under SSAA, sample s of each pixel in
+  /// `bits` at the sample's position.
+  static void enqueue_batch(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t, int g,
+                            bool ssaa, int S, int s, std::uint32_t bits, std::uint32_t* cblk,
+                            int px0, int py0, const std::uint64_t* passed) {
+    const auto fx_blk = static_cast<float>(px0), fy_blk = static_cast<float>(py0);
+    for (; bits; bits &= bits - 1) {
+      const int p = g * kShaderBatch + std::countr_zero(bits);
+      const auto col = static_cast<float>(p % raster::kBlockSize);
+      const auto row = static_cast<float>(p / raster::kBlockSize);
+      if (ssaa) {
+        enqueue(q, t, ln.planes, (fx_blk + col) + ln.oxs[s], (fy_blk + row) + ln.oys[s],
+                cblk + s * kBlockPixels + p, 1u);
+        continue;
+      }
+      std::uint32_t samples = 0;
+      for (int k = 0; k < S; ++k) samples |= static_cast<std::uint32_t>((passed[k] >> p) & 1) << k;
+      enqueue(q, t, ln.planes, (fx_blk + col) + 0.5f, (fy_blk + row) + 0.5f, cblk + p, samples);
     }
   }
 
   // Colours a block of a generic draw where its samples passed: per pixel at the pixel centre
   // (MSAA; only pixels some sample of which passed are active) or per sample (SSAA), blended
-  // over each sample's colour when the draw blends.
-  static void color_block(const Lanes& ln, const front::TriangleSetup& t, const DrawShading& sh,
-                          bool blend, bool ssaa, int S, std::uint32_t* cblk, int px0, int py0,
-                          const std::uint64_t* passed) {
+  // over each sample's colour when the draw blends. A shader's whole batches are shaded here,
+  // after the queue is written (it holds earlier triangles' pixels); partial ones are queued.
+  static void color_block(const Lanes& ln, ShadeQueue& q, const front::TriangleSetup& t,
+                          const DrawShading& sh, bool blend, bool ssaa, int S, std::uint32_t* cblk,
+                          int px0, int py0, const std::uint64_t* passed) {
+    const bool queued = sh.function != nullptr;
+    if (queued && q.shading != &sh) {
+      flush(q);
+      q.shading = &sh;
+      q.blend = blend;
+    }
     const F fx_blk(static_cast<float>(px0)), fy_blk(static_cast<float>(py0));
     for (int g = 0; g < kBatches; ++g) {
       std::uint32_t any = 0;
       for (int s = 0; s < S; ++s)
         any |= static_cast<std::uint32_t>(passed[s] >> (g * kShaderBatch)) & kBatchBits;
       if (!any) continue;
+      if (queued && !ssaa && any != kBatchBits) {
+        enqueue_batch(q, ln, t, g, false, S, 0, any, cblk, px0, py0, passed);
+        continue;
+      }
+      if (queued && !ssaa) flush(q);
       I pixel[kBatchVectors];
       if (!ssaa) batch_colors(ln, t, sh, g, fx_blk, fy_blk, F(0.5f), F(0.5f), any, pixel);
       for (int s = 0; s < S; ++s) {
         const std::uint32_t bits =
             static_cast<std::uint32_t>(passed[s] >> (g * kShaderBatch)) & kBatchBits;
         if (!bits) continue;
+        if (queued && ssaa) {
+          if (bits != kBatchBits) {
+            enqueue_batch(q, ln, t, g, true, S, s, bits, cblk, px0, py0, passed);
+            continue;
+          }
+          flush(q);
+        }
         I sample[kBatchVectors];
         if (ssaa) batch_colors(ln, t, sh, g, fx_blk, fy_blk, ln.ox[s], ln.oy[s], bits, sample);
         const I* color = ssaa ? sample : pixel;
