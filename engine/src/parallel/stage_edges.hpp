@@ -21,14 +21,13 @@
 #if defined(MOSAIC_TSAN)
 #include <sanitizer/tsan_interface.h>
 
-#include <cstdint>
-// TSan's annotation for memory a custom allocator hands out again: it forgets the earlier
-// accesses to [mem, mem + size). The runtime exports it; no header declares it.
-extern "C" void AnnotateNewMemory(const char* file, int line, std::uintptr_t mem,
-                                  std::uintptr_t size);
+// The runtime exports these (no header declares them): between them the calling thread's
+// memory accesses are neither recorded nor checked. (AnnotateNewMemory, which would forget a
+// range's history, is an empty function in GCC 12's libtsan.)
+extern "C" void __tsan_ignore_thread_begin();
+extern "C" void __tsan_ignore_thread_end();
 #endif
 
-#include <cstddef>
 #include <utility>
 
 namespace mosaic::parallel {
@@ -43,8 +42,9 @@ class StageEdges {
  public:
   /// `body` as a task. In TSan builds each copy oneTBB makes of it (one per task, in the thread
   /// that spawns that task) acquires its source and releases itself, and each call acquires the
-  /// copy it runs. A copy's storage is new: oneTBB's small-object pool recycles the memory of
-  /// finished tasks in uninstrumented code, so each copy first tells TSan its bytes are fresh.
+  /// copy it runs. oneTBB's small-object pool hands a finished task's memory to the next task in
+  /// uninstrumented code, so TSan would see a copy's writes race with the old task's last reads:
+  /// a copy writes its own fields unrecorded. What the task body does is checked as ever.
   template <class Body>
   auto task(Body body) {
     if constexpr (kTsan) {
@@ -60,13 +60,17 @@ class StageEdges {
   template <class Body>
   class Task {
    public:
+    // The members are written between ignore_begin() (in the first one's initialiser) and
+    // ignore_end().
     Task(StageEdges& edges, Body body)
-        : edges_((fresh(this, sizeof(Task)), acquire(this), &edges)), body_(std::move(body)) {
+        : edges_((acquire(this), ignore_begin(), &edges)), body_(std::move(body)) {
+      ignore_end();
       release(this);
     }
     Task(const Task& other)
-        : edges_((fresh(this, sizeof(Task)), acquire(this), acquire(&other), other.edges_)),
+        : edges_((acquire(this), acquire(&other), ignore_begin(), other.edges_)),
           body_(other.body_) {
+      ignore_end();
       release(this);
     }
     Task& operator=(const Task&) = delete;
@@ -88,9 +92,14 @@ class StageEdges {
     __tsan_release(const_cast<void*>(sync));
 #endif
   }
-  static void fresh([[maybe_unused]] const void* storage, [[maybe_unused]] std::size_t bytes) {
+  static void ignore_begin() {
 #if defined(MOSAIC_TSAN)
-    AnnotateNewMemory(__FILE__, __LINE__, reinterpret_cast<std::uintptr_t>(storage), bytes);
+    __tsan_ignore_thread_begin();
+#endif
+  }
+  static void ignore_end() {
+#if defined(MOSAIC_TSAN)
+    __tsan_ignore_thread_end();
 #endif
   }
   static void acquire([[maybe_unused]] const void* sync) {
