@@ -376,13 +376,15 @@ TEST(FrontSimd, ShaderDrawsWithAndWithoutVaryings) {
 // Varying planes in lanes, at their limits: a perspective (clip-space, indexed) mesh with the
 // most varyings a draw may have, read in a shuffled order from a wider vertex; values that are
 // signed zeros, subnormal, huge enough that a plane overflows float (the constant-plane
-// fallback), infinite or NaN; per-triangle colours beside the shader; culled back faces.
+// fallback), infinite or NaN; per-triangle colours beside the shader; culled back faces, and
+// triangles through the near plane (clipped by the scalar code between the lanes).
 TEST(FrontSimd, VaryingPlanesInLanesAtTheirLimits) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   std::vector<glm::vec3> xyz;
   for (int t = 0; t < 700; ++t) {
-    const glm::vec3 c(u(rng) * 30.0f, u(rng) * 20.0f, -u(rng) * 40.0f - 45.0f);
+    // One in 9 crosses the near plane (z = -1): the scalar code clips it, between lanes.
+    const glm::vec3 c(u(rng) * 30.0f, u(rng) * 20.0f, t % 9 == 4 ? -1.0f : -u(rng) * 40.0f - 45.0f);
     // Mostly small triangles, some large, some slivers thinner than a 16.8 step.
     const float size = t % 7 == 0 ? 25.0f : 0.4f;
     const glm::vec3 a = c + size * glm::vec3(u(rng), u(rng), u(rng));
@@ -436,6 +438,7 @@ TEST(FrontSimd, VaryingPlanesInLanesAtTheirLimits) {
           cull == CullMode::kBack ? std::span<const Rgba8>(tri_colors) : std::span<const Rgba8>();
       const front::FrontStats s = expect_same(d);
       EXPECT_GT(s.drawn, 500u);
+      EXPECT_GT(s.clipped, 5u);
       if (cull == CullMode::kBack) {
         EXPECT_GT(s.culled_face, 500u);
       }

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -39,8 +40,7 @@ struct FrontEndSimd {
   struct Vertices {
     alignas(64) double X[3][N], Y[3][N], Z[3][N], W[3][N];
     alignas(64) double color[3][kColorChannels][N];
-    alignas(64) double vary[3][kMaxVaryings][N];  ///< a shader draw's varyings (nvary of them)
-    std::uint32_t nonfinite = 0;                  ///< lanes with a NaN or infinite coordinate
+    std::uint32_t nonfinite = 0;  ///< lanes with a NaN or infinite coordinate
     /// X, Y, Z, W hold Draw::positions as they are: setup() does the rest of VertexFetch (the
     /// non-finite test and the viewport map) in lanes.
     bool raw = false;
@@ -63,7 +63,12 @@ struct FrontEndSimd {
     alignas(64) double x0[N], y0[N], z_min[N], z_max[N];
     PlaneLanes z, q;
     PlaneLanes c_q[kColorChannels];
-    PlaneLanes vary_q[kMaxVaryings];  ///< varying k·q, when the draw has varyings
+    // A shader draw's varyings: what their planes need of the geometry, the drawn lanes'
+    // varyings (oriented corners, corner 0 first), and their planes, varying k·q.
+    alignas(64) double xs[3][N], ys[3][N], area_px2[N], qn[3][N];
+    std::uint32_t ccw;  ///< lanes whose corners 1 and 2 swapped to orient them
+    alignas(64) double vary[3][kMaxVaryings][N];
+    PlaneLanes vary_q[kMaxVaryings];
   };
 
   static D load(const double* p) { return D::load_aligned(p); }
@@ -107,15 +112,31 @@ struct FrontEndSimd {
     for (int ch = 0; ch < kColorChannels; ++ch) v.color[k][ch][l] = c[ch];
   }
 
-  /// The shader's varyings of triangle t's corners into lane l, as TriangleFrontEnd::run() reads
-  /// them (float attributes widened to double).
-  static void fetch_varyings(const TriangleFrontEnd& scalar, std::uint32_t t, int l, Vertices& v) {
+  /// setup_varyings() for the drawn lanes of the batch at t0: their varyings are fetched only
+  /// now, after the culls, as TriangleFrontEnd::run() reads them (floats widened to double) and
+  /// in oriented corner order; then their planes over setup()'s geometry.
+  static void varying_planes(const TriangleFrontEnd& scalar, std::uint32_t t0, std::uint32_t drawn,
+                             Results& r) {
     const Draw& draw = scalar.fetch.draw;
-    for (int k = 0; k < 3; ++k) {
-      const float* row = draw.attributes.data() +
-                         static_cast<std::size_t>(scalar.fetch.vertex(t, k)) * draw.attribute_count;
-      for (int j = 0; j < scalar.nvary; ++j) v.vary[k][j][l] = row[draw.varyings[j]];
+    const int nvary = scalar.nvary;
+    for (std::uint32_t bits = drawn; bits; bits &= bits - 1) {
+      const int l = std::countr_zero(bits);
+      const bool swap = (r.ccw >> l) & 1;
+      for (int k = 0; k < 3; ++k) {
+        const int c = swap && k > 0 ? 3 - k : k;  // oriented corner k is submitted corner c
+        const std::uint32_t i = scalar.fetch.vertex(t0 + static_cast<std::uint32_t>(l), c);
+        const float* row =
+            draw.attributes.data() + static_cast<std::size_t>(i) * draw.attribute_count;
+        for (int j = 0; j < nvary; ++j) r.vary[k][j][l] = row[draw.varyings[j]];
+      }
     }
+    const D Xs[3] = {load(r.xs[0]), load(r.xs[1]), load(r.xs[2])};
+    const D Ys[3] = {load(r.ys[0]), load(r.ys[1]), load(r.ys[2])};
+    const D area = load(r.area_px2);
+    const D qn[3] = {load(r.qn[0]), load(r.qn[1]), load(r.qn[2])};
+    for (int k = 0; k < nvary; ++k)
+      make_plane(Xs, Ys, area, load(r.vary[0][k]) * qn[0], load(r.vary[1][k]) * qn[1],
+                 load(r.vary[2][k]) * qn[2], r.vary_q[k]);
   }
 
   /// Fetches triangles t0 .. t0 + n - 1 into lanes; the lanes past n repeat lane 0, so that they
@@ -123,9 +144,6 @@ struct FrontEndSimd {
   static void fetch(const TriangleFrontEnd& scalar, std::uint32_t t0, int n, Vertices& v) {
     const Draw& draw = scalar.fetch.draw;
     v.nonfinite = 0;
-    if (scalar.nvary > 0)
-      for (int l = 0; l < N; ++l)
-        fetch_varyings(scalar, t0 + static_cast<std::uint32_t>(l < n ? l : 0), l, v);
     v.raw = draw.positions_xyz.empty();
     if (v.raw) {  // the common case, where VertexFetch's remaining work is cheaper in lanes
       for (int l = 0; l < N; ++l) {
@@ -313,15 +331,17 @@ struct FrontEndSimd {
                      r.c_q[ch]);
       }
     }
-    if (nvary > 0) {  // setup_varyings(): q, then each varying times q
+    if (nvary > 0) {  // setup_varyings(): q here, each varying times q in varying_planes()
       const D qmax = max3(Qo[0], Qo[1], Qo[2]);
       const D qn[3] = {Qo[0] / qmax, Qo[1] / qmax, Qo[2] / qmax};
       make_plane(Xs, Ys, area_px2, qn[0], qn[1], qn[2], r.q);
-      for (int k = 0; k < nvary; ++k) {
-        const D a[3] = {load(v.vary[0][k]), load(v.vary[1][k]), load(v.vary[2][k])};
-        const auto ao = oriented(a);
-        make_plane(Xs, Ys, area_px2, ao[0] * qn[0], ao[1] * qn[1], ao[2] * qn[2], r.vary_q[k]);
+      for (int k = 0; k < 3; ++k) {
+        Xs[k].store_aligned(r.xs[k]);
+        Ys[k].store_aligned(r.ys[k]);
+        qn[k].store_aligned(r.qn[k]);
       }
+      area_px2.store_aligned(r.area_px2);
+      r.ccw = M::bits(ccw);
     }
   }
 
@@ -368,8 +388,8 @@ struct FrontEndSimd {
 
   /// Appends lane l's varying planes to `planes` as setup_varyings() does: q and each varying
   /// times q, or, if one of them overflows float, constant planes of corner 0's values.
-  static void store_varyings(const Results& r, const Vertices& v, int l, int nvary,
-                             std::vector<Plane>& planes, TriangleSetup& ts) {
+  static void store_varyings(const Results& r, int l, int nvary, std::vector<Plane>& planes,
+                             TriangleSetup& ts) {
     ts.planes_base = static_cast<std::uint32_t>(planes.size());
     planes.push_back(plane(r.q, l));
     bool ok = is_finite(planes.back());
@@ -381,7 +401,7 @@ struct FrontEndSimd {
     Plane* p = planes.data() + ts.planes_base;
     p[0] = {1.0f, 0.0f, 0.0f};
     // Corner 0 is never swapped by the orientation.
-    for (int k = 0; k < nvary; ++k) p[1 + k] = {static_cast<float>(v.vary[0][k][l]), 0.0f, 0.0f};
+    for (int k = 0; k < nvary; ++k) p[1 + k] = {static_cast<float>(r.vary[0][k][l]), 0.0f, 0.0f};
   }
 
   /// run_front_end() with the common case in lanes.
@@ -407,6 +427,11 @@ struct FrontEndSimd {
         fetch(scalar, t0 + N, batch_size(t0 + N), vertices[cur ^ 1]);
       const Vertices& v = vertices[cur];
       setup(v, scalar.fetch, width, height, scalar.per_vertex, scalar.nvary, scalar.spots, r);
+      if (scalar.nvary > 0) {
+        const std::uint32_t drawn =
+            ((1u << n) - 1) & ~(r.scalar | r.outside | r.face | r.degenerate | r.no_sample);
+        if (drawn) varying_planes(scalar, t0, drawn, r);
+      }
       for (int l = 0; l < n; ++l) {
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l);
         const std::uint32_t bit = 1u << l;
@@ -428,7 +453,7 @@ struct FrontEndSimd {
               draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
           TriangleSetup& ts = out.emplace_back();
           store(r, v, l, scalar.per_vertex, flat, draw_index, planes, ts);
-          if (scalar.nvary > 0) store_varyings(r, v, l, scalar.nvary, *planes, ts);
+          if (scalar.nvary > 0) store_varyings(r, l, scalar.nvary, *planes, ts);
           ++stats.drawn;
         }
       }
