@@ -248,6 +248,31 @@ void frames_table(const Results& r) {
   }
 }
 
+/// The mesh scenes lit per pixel (lit/) against the same meshes flat (frame/).
+void lit_table(const Results& r) {
+  std::cout
+      << "| mesh scene | MSAA | threads | flat ms | lit ms | lit / flat | flat setup | "
+         "lit setup | flat raster | lit raster |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const std::string& s : scenes_of(r, "lit")) {
+    for (const char* S : {"1x", "4x"}) {
+      for (const char* T : {"t1", "t2"}) {
+        const std::string key = s + "/" + S + "/" + T;
+        const Case* lit = find(r, "lit/" + key);
+        const Case* flat = find(r, "frame/" + key);
+        if (!lit || !flat) continue;
+        std::optional<double> ratio;
+        if (flat->ms > 0) ratio = lit->ms / flat->ms;
+        std::cout << "| " << s << " | " << S << " | " << std::string(T).substr(1) << " | "
+                  << fmt(flat->ms, "%.2f") << " | " << fmt(lit->ms, "%.2f") << " | "
+                  << fmt(ratio, "%.2f×") << " | " << fmt(flat->counter("ms_setup"), "%.2f") << " | "
+                  << fmt(lit->counter("ms_setup"), "%.2f") << " | "
+                  << fmt(flat->counter("ms_raster"), "%.2f") << " | "
+                  << fmt(lit->counter("ms_raster"), "%.2f") << " |\n";
+      }
+    }
+  }
+}
+
 void isa_table(const Results& r) {
   std::vector<std::string> isas;
   for (const std::string& n : r.order)
@@ -427,6 +452,9 @@ int main(int argc, char** argv) {
                  "under 100 % on 1 thread means the run waited for a core taken by other work "
                  "(on 2 threads it also shows the caller waiting for the other worker).\n\n";
     frames_table(r);
+    std::cout << "\nThe mesh scenes lit per pixel (`lambert_shader` on their vertex normals, "
+                 "`--shade lambert`) against the same meshes flat (ms, medians):\n\n";
+    lit_table(r);
     std::cout << "\nSpeed-up of each instruction set over the scalar reference:\n\n";
     isa_table(r);
     std::cout << "\nWhere a 4x frame's time goes (ms; FrameStats medians, then the isolated "

@@ -6,6 +6,8 @@
 // dense-mesh knot scenes):
 //   frame/<scene>/<S>x/t<T>          whole frames, clear to resolved image, S = 1 and 4 samples,
 //                                    T = 1 and 2 threads; per-stage times from FrameStats
+//   lit/<mesh scene>/<S>x/t<T>       the knot scenes' frames lit per pixel (Shading::kLambert:
+//                                    their normals as varyings through lambert_shader)
 //   stage/setup/<scene>/t<T>         the front end alone (transform, clip, cull, snap, set up)
 //   stage/binning/<scene>/t<T>       binning alone, over the front end's output
 //   stage/raster/<scene>/4x/t<T>     the tile kernels alone over ready bins (each tile: clear,
@@ -173,7 +175,7 @@ void set_throughput(benchmark::State& state, const Totals& tot, int threads, boo
 
 /// Whole frames through the public API.
 void bench_frame(benchmark::State& state, const std::string& scene_name, int samples, int threads,
-                 mosaic::Isa isa) {
+                 mosaic::Isa isa, mosaic::Shading shading = mosaic::Shading::kFlat) {
   const mosaic::Scene& scene = bench_scene(scene_name);
   mosaic::RendererOptions options;
   options.threads = threads;
@@ -181,7 +183,7 @@ void bench_frame(benchmark::State& state, const std::string& scene_name, int sam
   mosaic::Renderer renderer(options);
   mosaic::RenderTarget target(scene.width, scene.height, samples);
   target.set_clear(scene.clear_color, scene.clear_depth);
-  const std::vector<mosaic::Draw> draws = scene.draws();
+  const std::vector<mosaic::Draw> draws = scene.draws(shading);
   mosaic::Frame frame;
   frame.draws = draws;
   // Warm-up frame: the renderer's per-frame memory reaches its steady size, caches are warm.
@@ -409,6 +411,18 @@ void register_all() {
                       ("frame/" + s + "/" + samples_tag(S) + "/" + threads_tag(T)).c_str(),
                       [=](benchmark::State& st) { bench_frame(st, s, S, T, Isa::kAuto); }),
                   kFrameMinTime, is_mesh_scene(s) ? kMeshFrameIterations : 0);
+  // The mesh scenes lit per pixel (their normals through lambert_shader), beside frame/'s flat
+  // draws of the same meshes.
+  for (const char* s : kMeshScenes)
+    for (int S : kSampleCounts)
+      for (int T : kThreadCounts)
+        configure(
+            benchmark::RegisterBenchmark(
+                (std::string("lit/") + s + "/" + samples_tag(S) + "/" + threads_tag(T)).c_str(),
+                [=](benchmark::State& st) {
+                  bench_frame(st, s, S, T, Isa::kAuto, mosaic::Shading::kLambert);
+                }),
+            kFrameMinTime, kMeshFrameIterations);
   for (const std::string& s : scenes) {
     if (is_mesh_scene(s)) continue;
     for (int T : kThreadCounts) {
