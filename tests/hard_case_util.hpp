@@ -44,8 +44,7 @@ inline Rendered render_on(const std::vector<Mesh>& meshes, const TargetSpec& spe
                           int threads, bool ssaa = false) {
   RenderTarget target(spec.width, spec.height, spec.samples, TargetOptions{true, true});
   target.set_clear(spec.clear, spec.clear_depth);
-  std::vector<Draw> draws;
-  for (const Mesh& m : meshes) draws.push_back(m.draw());
+  const std::vector<Draw> draws = test::draws_of(meshes);
   Frame frame;
   frame.draws = draws;
   frame.ssaa = ssaa;

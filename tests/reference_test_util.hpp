@@ -199,10 +199,17 @@ struct FrameOptions {
 };
 
 /// Renders `meshes` as one frame with the exact reference, through the public API.
+/// Draws viewing each of `meshes`, in order (valid while the meshes live).
+inline std::vector<Draw> draws_of(const std::vector<Mesh>& meshes) {
+  std::vector<Draw> draws;
+  draws.reserve(meshes.size());
+  for (const Mesh& m : meshes) draws.push_back(m.draw());
+  return draws;
+}
+
 inline FrameStats render_reference(const std::vector<Mesh>& meshes, RenderTarget& target,
                                    FrameOptions options = {}) {
-  std::vector<Draw> draws;
-  for (const Mesh& m : meshes) draws.push_back(m.draw());
+  const std::vector<Draw> draws = draws_of(meshes);
   Frame frame;
   frame.draws = draws;
   frame.painter = options.painter;

@@ -162,8 +162,7 @@ TEST(ApiErrors, ReserveChecksItsFrameAndChangesNoImage) {
   }
   test::Rng rng(31);
   const std::vector<Mesh> meshes = test::random_draws(61, 47, 3, 2000, rng);
-  std::vector<Draw> draws;
-  for (const Mesh& m : meshes) draws.push_back(m.draw());
+  const std::vector<Draw> draws = test::draws_of(meshes);
   Frame f;
   f.draws = draws;
   RenderTarget a(61, 47, 4), b(61, 47, 4);
@@ -178,8 +177,7 @@ TEST(ApiErrors, ReserveChecksItsFrameAndChangesNoImage) {
 TEST(ApiErrors, TwoRenderersOnTwoThreadsRenderAsAlone) {
   test::Rng rng(32);
   const std::vector<Mesh> meshes = test::random_draws(96, 64, 4, 500, rng);
-  std::vector<Draw> draws;
-  for (const Mesh& m : meshes) draws.push_back(m.draw());
+  const std::vector<Draw> draws = test::draws_of(meshes);
   Frame f;
   f.draws = draws;
   RenderTarget alone(96, 64, 4);

@@ -32,8 +32,7 @@ struct Result {
 // Renders `meshes` into `t` as one frame with the given loads, keeping the hierarchical z.
 Result render(Renderer& r, RenderTarget& t, const std::vector<Mesh>& meshes, bool ssaa,
               LoadOp color, LoadOp depth) {
-  std::vector<Draw> draws;
-  for (const Mesh& m : meshes) draws.push_back(m.draw());
+  const std::vector<Draw> draws = test::draws_of(meshes);
   Frame f;
   f.draws = draws;
   f.ssaa = ssaa;

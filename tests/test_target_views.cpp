@@ -51,12 +51,6 @@ struct Guarded {
   }
 };
 
-std::vector<Draw> views_of(const std::vector<Mesh>& meshes) {
-  std::vector<Draw> draws;
-  for (const Mesh& m : meshes) draws.push_back(m.draw());
-  return draws;
-}
-
 TEST(TargetViews, ColourViewsGetTheOwnedImageAndNothingOutside) {
   test::Rng rng(7070);
   const std::vector<Mesh> meshes = test::random_draws(kW, kH, 3, 40, rng);
@@ -77,7 +71,7 @@ TEST(TargetViews, ColourViewsGetTheOwnedImageAndNothingOutside) {
         EXPECT_TRUE(view.color().empty());
         // A depth-only frame (the image is filled with the clear colour), then a colour one.
         for (const std::vector<Mesh>* pass : {&std::as_const(depth_only), &meshes}) {
-          const std::vector<Draw> draws = views_of(*pass);
+          const std::vector<Draw> draws = test::draws_of(*pass);
           Frame f;
           f.draws = draws;
           r.render(f, owned);
@@ -108,7 +102,7 @@ TEST(TargetViews, DepthViewsHoldTheSampleDepthAndAreLoadedFrom) {
       const std::string what = std::string(to_string(isa)) + " " + std::to_string(samples) + "x";
       Renderer r(RendererOptions{2, isa});
       RenderTarget owned(kW, kH, samples, TargetOptions{true, false});
-      const std::vector<Draw> all = views_of(meshes);
+      const std::vector<Draw> all = test::draws_of(meshes);
       Frame whole;
       whole.draws = all;
       r.render(whole, owned);
@@ -120,7 +114,7 @@ TEST(TargetViews, DepthViewsHoldTheSampleDepthAndAreLoadedFrom) {
                         DepthView{reinterpret_cast<float*>(depth.first()), depth.stride},
                         TargetOptions{false, true});
       EXPECT_TRUE(view.sample_depth().empty());
-      const std::vector<Draw> a = views_of(first), b = views_of(second);
+      const std::vector<Draw> a = test::draws_of(first), b = test::draws_of(second);
       Frame pass;
       pass.draws = a;
       r.render(pass, view);
@@ -144,7 +138,7 @@ TEST(TargetViews, DepthViewsHoldTheSampleDepthAndAreLoadedFrom) {
 TEST(TargetViews, APngOfAViewTargetIsTheOwnedTargetsFile) {
   test::Rng rng(7072);
   const std::vector<Mesh> meshes = test::random_draws(kW, kH, 2, 30, rng);
-  const std::vector<Draw> draws = views_of(meshes);
+  const std::vector<Draw> draws = test::draws_of(meshes);
   Frame f;
   f.draws = draws;
   Renderer r;
