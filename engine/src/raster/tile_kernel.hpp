@@ -699,10 +699,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     for (int s = 0; s < f.samples; ++s) {
       const SampleOffset o = cx.pattern[s];
       // The reference's sample position is px + 0.5 + dx / 16; every term and sum is exact.
-      cx.ln.ox[s] = F(0.5f + static_cast<float>(o.dx) * (1.0f / 16.0f));
-      cx.ln.oy[s] = F(0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f));
       cx.ln.oxs[s] = 0.5f + static_cast<float>(o.dx) * (1.0f / 16.0f);
       cx.ln.oys[s] = 0.5f + static_cast<float>(o.dy) * (1.0f / 16.0f);
+      cx.ln.ox[s] = F(cx.ln.oxs[s]);
+      cx.ln.oy[s] = F(cx.ln.oys[s]);
       cx.soff[0][s] = kHalf + o.dx * kSampleOffsetScale;
       cx.soff[1][s] = kHalf + o.dy * kSampleOffsetScale;
       for (int v = 0; v < kVectors; ++v) {
