@@ -12,7 +12,9 @@ namespace mosaic::simd {
                          raster::TileStats&);                                              \
   void front_end_##isa(const Draw&, std::uint32_t, std::uint32_t, std::uint32_t, int, int, \
                        std::vector<front::TriangleSetup>&, front::FrontStats&,             \
-                       std::vector<front::Plane>*, int);                                   \
+                       std::vector<front::Plane>*, int, const front::VertexCache*);        \
+  void vertex_stage_##isa(const Draw&, int, int, std::uint32_t, std::uint32_t,             \
+                          const front::VertexCache&);                                      \
   void project_boxes_##isa(const Box*, std::size_t, const occlusion::BoxView&,             \
                            occlusion::Projected*);
 #if MOSAIC_HAVE_SSE41
@@ -50,20 +52,22 @@ struct IsaStages {
   Isa isa;
   raster::TileKernel kernel;
   front::FrontEnd front_end;
+  front::VertexStage vertex_stage;
   BoxProjector boxes;
 };
 
 constexpr IsaStages kBuilt[] = {
 #if MOSAIC_HAVE_SSE41
-    {Isa::kSse41, &tile_kernel_sse41, &front_end_sse41, &project_boxes_sse41},
+    {Isa::kSse41, &tile_kernel_sse41, &front_end_sse41, &vertex_stage_sse41, &project_boxes_sse41},
 #endif
 #if MOSAIC_HAVE_AVX2
-    {Isa::kAvx2, &tile_kernel_avx2, &front_end_avx2, &project_boxes_avx2},
+    {Isa::kAvx2, &tile_kernel_avx2, &front_end_avx2, &vertex_stage_avx2, &project_boxes_avx2},
 #endif
 #if MOSAIC_HAVE_AVX512
-    {Isa::kAvx512, &tile_kernel_avx512, &front_end_avx512, &project_boxes_avx512},
+    {Isa::kAvx512, &tile_kernel_avx512, &front_end_avx512, &vertex_stage_avx512,
+     &project_boxes_avx512},
 #endif
-    {Isa::kReference, nullptr, nullptr, nullptr},  // the end: no SIMD stages
+    {Isa::kReference, nullptr, nullptr, nullptr, nullptr},  // the end: no SIMD stages
 };
 
 // The stages of `isa` if they were built and the CPU runs them; the end marker otherwise.
@@ -85,6 +89,8 @@ std::vector<Isa> runnable_isas() {
 raster::TileKernel tile_kernel(Isa isa) { return stages(isa).kernel; }
 
 front::FrontEnd front_end(Isa isa) { return stages(isa).front_end; }
+
+front::VertexStage vertex_stage(Isa isa) { return stages(isa).vertex_stage; }
 
 BoxProjector box_projector(Isa isa) { return stages(isa).boxes; }
 

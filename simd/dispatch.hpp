@@ -21,6 +21,10 @@ raster::TileKernel tile_kernel(Isa isa);
 /// front::run_front_end() gives (front/setup_simd.hpp).
 front::FrontEnd front_end(Isa isa);
 
+/// The vertex stage for `isa` (one of runnable_isas()), or nullptr: it fills the cache that the
+/// SIMD front end of the same ISA reads (front/vertex_stage.hpp).
+front::VertexStage vertex_stage(Isa isa);
+
 /// Projects boxes for the batched box queries, as occlusion::project_boxes() does.
 using BoxProjector = void (*)(const Box* boxes, std::size_t n, const occlusion::BoxView& view,
                               occlusion::Projected* out);

@@ -151,8 +151,9 @@ TEST(ApiErrors, MessagesEscapeControlAndMalformedBytes) {
 // reserve() checks its frame, and a reserved Renderer renders what a fresh one does.
 TEST(ApiErrors, ReserveChecksItsFrameAndChangesNoImage) {
   Renderer r(RendererOptions{2});
-  for (const FrameReserve bad : {FrameReserve{0, 8, 1, 10}, FrameReserve{8, 16385, 1, 10},
-                                 FrameReserve{8, 8, 3, 10}, FrameReserve{8, 8, 4, ~0ull}}) {
+  for (const FrameReserve bad :
+       {FrameReserve{0, 8, 1, 10}, FrameReserve{8, 16385, 1, 10}, FrameReserve{8, 8, 3, 10},
+        FrameReserve{8, 8, 4, ~0ull}, FrameReserve{8, 8, 4, 10, std::uint64_t{1} << 32}}) {
     try {
       r.reserve(bad);
       ADD_FAILURE() << "accepted";

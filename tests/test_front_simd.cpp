@@ -72,24 +72,44 @@ struct Output {
 // Runs `fe` on [begin, end) after a prefix already in the outputs (a chunk's vectors are reused,
 // and planes_base counts from what is there).
 Output run(front::FrontEnd fe, const Draw& d, std::uint32_t begin, std::uint32_t end,
-           bool with_planes, int samples) {
+           bool with_planes, int samples, const front::VertexCache* cache = nullptr) {
   Output o;
   o.planes.resize(3);
-  fe(d, 7, begin, end, kWidth, kHeight, o.tris, o.stats, with_planes ? &o.planes : nullptr,
-     samples);
+  fe(d, 7, begin, end, kWidth, kHeight, o.tris, o.stats, with_planes ? &o.planes : nullptr, samples,
+     cache);
   return o;
+}
+
+// The vertex stage of `isa` over all of d's vertices into `records`, in blocks of `block` (the
+// last one short), as the frame runs it.
+front::VertexCache vertex_cache(Isa isa, const Draw& d, std::uint32_t block,
+                                front::VertexRecords& records) {
+  const auto n = static_cast<std::uint32_t>(front::vertex_count(d));
+  records.reserve(n);
+  const front::VertexCache cache{records.data(), n};
+  std::fill(cache.data, cache.data + n, front::ProjectedVertex{-1, -1, -1, 0xff, -1, ~0u, 0});
+  const front::VertexStage stage = simd::vertex_stage(isa);
+  EXPECT_NE(stage, nullptr);
+  for (std::uint32_t v = 0; v < n; v += block)
+    stage(d, kWidth, kHeight, v, std::min(n, v + block), cache);
+  return cache;
 }
 
 // Compares every runnable ISA's front end with the scalar one on `d`, over the whole draw and over
 // ranges that start and end off the lane grid; `whole` gets the scalar counters of the whole draw.
 void expect_same_into(const Draw& d, front::FrontStats& whole) {
   const std::uint32_t n = front::triangle_count(d);
+  ASSERT_GE(n, 13u) << "the ranges below need 13 triangles";
   const std::vector<std::pair<std::uint32_t, std::uint32_t>> ranges{
       {0, n}, {1, n}, {0, n - 1}, {3, n - 2}, {5, 6}, {9, 9}, {2, 13}};
   for (Isa isa : simd::runnable_isas()) {
     SCOPED_TRACE(to_string(isa));
     const front::FrontEnd fe = simd::front_end(isa);
     ASSERT_NE(fe, nullptr);
+    // Every draw is also set up from the vertex stage's cache (an unindexed draw's vertex of a
+    // corner is 3t + k), projected in blocks that end off the lane grid.
+    front::VertexRecords records;
+    const front::VertexCache cache = vertex_cache(isa, d, 13, records);
     for (const auto& [b, e] : ranges) {
       // Sample count 0 culls no box; 1, 4 and 16 cull those that hold none of their positions.
       for (const auto& [with_planes, samples] :
@@ -98,21 +118,25 @@ void expect_same_into(const Draw& d, front::FrontStats& whole) {
         SCOPED_TRACE(testing::Message() << "range [" << b << ", " << e << ") planes " << with_planes
                                         << " samples " << samples);
         const Output want = run(&front::run_front_end, d, b, e, with_planes, samples);
-        const Output got = run(fe, d, b, e, with_planes, samples);
-        EXPECT_EQ(got.stats.in, want.stats.in);
-        EXPECT_EQ(got.stats.nonfinite, want.stats.nonfinite);
-        EXPECT_EQ(got.stats.culled_face, want.stats.culled_face);
-        EXPECT_EQ(got.stats.degenerate, want.stats.degenerate);
-        EXPECT_EQ(got.stats.outside, want.stats.outside);
-        EXPECT_EQ(got.stats.clipped, want.stats.clipped);
-        EXPECT_EQ(got.stats.drawn, want.stats.drawn);
-        EXPECT_EQ(got.stats.no_sample, want.stats.no_sample);
-        ASSERT_EQ(got.tris.size(), want.tris.size());
-        for (std::size_t i = 0; i < want.tris.size(); ++i)
-          expect_same_setup(got.tris[i], want.tris[i], i);
-        ASSERT_EQ(got.planes.size(), want.planes.size());
-        for (std::size_t i = 0; i < want.planes.size(); ++i)
-          expect_plane(got.planes[i], want.planes[i], "out-of-line plane", i);
+        for (const front::VertexCache* c :
+             {static_cast<const front::VertexCache*>(nullptr), &cache}) {
+          SCOPED_TRACE(c ? "from the vertex stage" : "from the draw");
+          const Output got = run(fe, d, b, e, with_planes, samples, c);
+          EXPECT_EQ(got.stats.in, want.stats.in);
+          EXPECT_EQ(got.stats.nonfinite, want.stats.nonfinite);
+          EXPECT_EQ(got.stats.culled_face, want.stats.culled_face);
+          EXPECT_EQ(got.stats.degenerate, want.stats.degenerate);
+          EXPECT_EQ(got.stats.outside, want.stats.outside);
+          EXPECT_EQ(got.stats.clipped, want.stats.clipped);
+          EXPECT_EQ(got.stats.drawn, want.stats.drawn);
+          EXPECT_EQ(got.stats.no_sample, want.stats.no_sample);
+          ASSERT_EQ(got.tris.size(), want.tris.size());
+          for (std::size_t i = 0; i < want.tris.size(); ++i)
+            expect_same_setup(got.tris[i], want.tris[i], i);
+          ASSERT_EQ(got.planes.size(), want.planes.size());
+          for (std::size_t i = 0; i < want.planes.size(); ++i)
+            expect_plane(got.planes[i], want.planes[i], "out-of-line plane", i);
+        }
         if (b == 0 && e == n && samples == 0) whole = want.stats;
       }
     }
@@ -200,6 +224,8 @@ TEST(FrontSimd, ZeroAreaTinyAndOffScreenTriangles) {
   tri({2, 2}, {9, 2}, {2, 9});              // counter-clockwise on screen
   tri({0, 0}, {320, 0}, {0, 200});          // the whole target's half
   tri({3, 3}, {3, 3}, {8, 8});              // degenerate again, for the tail
+  tri({4, 4}, {4, 4}, {9, 9});              // and twice more, for 13 triangles
+  tri({6, 6}, {7, 7}, {8, 8});
   Draw d;
   d.space = Space::kScreen;
   d.positions = p;

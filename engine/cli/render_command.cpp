@@ -204,7 +204,11 @@ int run_render(const RenderOptions& o) {
   double ms_reserve = 0;
   if (o.reserve) {
     const auto r0 = std::chrono::steady_clock::now();
-    renderer.reserve({target.width(), target.height(), target.samples(), scene.triangle_count()});
+    std::uint64_t indexed_vertices = 0;  // what the vertex stage projects
+    for (const Mesh& m : scene.meshes)
+      if (!m.indices.empty()) indexed_vertices += m.positions.size();
+    renderer.reserve({target.width(), target.height(), target.samples(), scene.triangle_count(),
+                      indexed_vertices});
     ms_reserve =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
   }

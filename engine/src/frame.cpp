@@ -1,7 +1,8 @@
 // frame.cpp — the frame orchestrator: the only place that knows the order of the stages.
 //
-// validate → front end (transform, clip, cull, snap, setup) → binning (each chunk right after its
-// front end) → tile rasterization (coverage, hierarchical z, depth, shading) → resolve.
+// validate → vertex stage (each vertex of an indexed mesh projected once) → front end (transform,
+// clip, cull, snap, setup) → binning (each chunk right after its front end) → tile rasterization
+// (coverage, hierarchical z, depth, shading) → resolve.
 // Isa::kReference sends the whole frame to the exact scalar oracle instead.
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -157,10 +158,14 @@ struct Renderer::Impl {
   int threads = 1;
   raster::TileKernel kernel = nullptr;
   front::FrontEnd front_end = &front::run_front_end;  ///< the SIMD one of `isa`, when there is one
+  front::VertexStage vertex_stage = nullptr;          ///< the SIMD front end's, when there is one
   std::unique_ptr<tbb::global_control> parallelism;   // declared before the arena: outlives it
   std::unique_ptr<tbb::task_arena> arena;
   // Per-frame memory, kept between frames so that steady-state frames do not allocate.
   std::vector<bin::Chunk> chunks;
+  front::VertexRecords vertex_records;            // the vertex caches' memory
+  std::vector<front::VertexCache> vertex_caches;  // one per draw, empty if it skips the stage
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> vertex_blocks;  // (draw, first vertex)
   bin::ChunkPlan plan;
   std::vector<std::uint32_t> draw_triangles;
   std::vector<DrawState> states;
@@ -206,6 +211,9 @@ class BusyGuard {
 /// The most triangles reserve() sizes a frame for: 2^30, 256 GiB of setups, past any machine.
 constexpr std::uint64_t kMaxReservedTriangles = std::uint64_t{1} << 30;
 
+/// The most vertices reserve() sizes a frame for: as many as one draw may index.
+constexpr std::uint64_t kMaxReservedVertices = 0xffffffffu;
+
 /// Bins a reserved chunk is sized for, per triangle: a small triangle touches one or two tiles.
 constexpr std::size_t kReservedTilesPerTriangle = 2;
 /// Out-of-line planes a reserved chunk is sized for, per triangle: 1/w and four colours.
@@ -231,6 +239,7 @@ void Renderer::Impl::reserve(const FrameReserve& r) {
   const std::size_t nchunks = (triangles + bin::kChunkTriangles - 1) / bin::kChunkTriangles;
   if (chunks.size() < nchunks) chunks.resize(nchunks);
   tile_order.reserve(static_cast<std::size_t>(grid.count()));
+  if (vertex_stage) vertex_records.reserve_touched(r.vertices);
   parallel::StageEdges edges;
   arena->execute(edges.task([&] {
     tbb::parallel_for(std::size_t{0}, nchunks, edges.task([&](std::size_t i) {
@@ -257,6 +266,10 @@ void Renderer::reserve(const FrameReserve& r) {
     throw Error(Errc::kInvalidArgument, "reserve(): " + std::to_string(r.triangles) +
                                             " triangles, more than " +
                                             std::to_string(kMaxReservedTriangles));
+  if (r.vertices > kMaxReservedVertices)
+    throw Error(Errc::kInvalidArgument, "reserve(): " + std::to_string(r.vertices) +
+                                            " vertices, more than " +
+                                            std::to_string(kMaxReservedVertices));
   if (impl_->isa == Isa::kReference) return;
   const BusyGuard busy(impl_->busy, "reserve()");
   impl_->reserve(r);
@@ -287,7 +300,10 @@ Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (impl_->isa != Isa::kReference) {
     impl_->kernel = simd::tile_kernel(impl_->isa);
-    if (const front::FrontEnd f = simd::front_end(impl_->isa)) impl_->front_end = f;
+    if (const front::FrontEnd f = simd::front_end(impl_->isa)) {
+      impl_->front_end = f;
+      impl_->vertex_stage = simd::vertex_stage(impl_->isa);
+    }
     // oneTBB caps its workers at the core count; asking an arena for more prints a warning and
     // runs on fewer. Oversubscribing is a legitimate request (determinism tests use 7 threads on
     // 2 cores), so raise the cap for as long as this renderer lives.
@@ -375,7 +391,43 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     states.push_back(s);
   }
 
-  // Stages 1 and 2: front end and binning, in parallel over chunks of triangles. Each chunk is
+  // Stage 1: the vertex stage, in parallel over blocks of vertices of the draws that want it. The
+  // painter's path sets the frame up with the scalar front end, which reads no cache.
+  vertex_caches.assign(frame.draws.size(), {});
+  vertex_blocks.clear();
+  std::size_t records = 0;
+  const auto staged = [&](const Draw& draw) {
+    return vertex_stage != nullptr && !frame.painter && front::wants_vertex_stage(draw);
+  };
+  for (const Draw& draw : frame.draws)
+    if (staged(draw)) records += front::vertex_count(draw);
+  vertex_records.reserve(records);
+  records = 0;
+  for (std::size_t d = 0; d < frame.draws.size(); ++d) {
+    const Draw& draw = frame.draws[d];
+    if (!staged(draw)) continue;
+    const std::size_t n = front::vertex_count(draw);
+    vertex_caches[d] = {vertex_records.data() + records, n};
+    records += n;
+    for (std::size_t v = 0; v < n; v += front::kVertexStageBlock)
+      vertex_blocks.push_back({static_cast<std::uint32_t>(d), static_cast<std::uint32_t>(v)});
+  }
+  if (!vertex_blocks.empty()) {
+    parallel::StageEdges vertex_edges;
+    arena->execute(vertex_edges.task([&] {
+      tbb::parallel_for(std::size_t{0}, vertex_blocks.size(), vertex_edges.task([&](std::size_t k) {
+        const auto [d, v0] = vertex_blocks[k];
+        const Draw& draw = frame.draws[d];
+        const auto n = static_cast<std::uint32_t>(front::vertex_count(draw));
+        vertex_stage(draw, W, H, v0, std::min(n - v0, front::kVertexStageBlock) + v0,
+                     vertex_caches[d]);
+      }));
+    }));
+    vertex_edges.join();
+  }
+  const std::span<const front::VertexCache> caches(vertex_caches.data(), frame.draws.size());
+
+  // Stages 2 and 3: front end and binning, in parallel over chunks of triangles. Each chunk is
   // binned into its own tile table right after it is set up, while its setups (256 bytes a
   // triangle) are still in this core's cache; a second pass read them back from memory
   // (random-small 4x: setup + binning 9.3 -> 6.4 ms on 1 thread, 4.3 -> 3.2 ms on 2). The
@@ -419,8 +471,9 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     } else {
       tbb::parallel_for(std::size_t{0}, nchunks, front_edges.task([&](std::size_t i) {
         const auto c0 = Clock::now();
-        const std::uint32_t triangles = bin::set_up_chunk(chunks[i], plan.pieces(i), frame.draws,
-                                                          front_end, W, H, S, front_stats.local());
+        const std::uint32_t triangles =
+            bin::set_up_chunk(chunks[i], plan.pieces(i), frame.draws, front_end, W, H, S,
+                              front_stats.local(), caches);
         bin_after(i, triangles, c0, Clock::now());
       }));
     }
@@ -440,7 +493,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
           ? ms_between(t_front, t2) * binning_share / (setup_share + binning_share)
           : 0.0;
 
-  // Stage 3: tiles, busiest first so the longest tile starts early; one worker owns a tile
+  // Stage 4: tiles, busiest first so the longest tile starts early; one worker owns a tile
   // from clear to resolve.
   tile_order.clear();
   for (int t = 0; t < grid.count(); ++t) {

@@ -127,6 +127,9 @@ inline constexpr int kMaxThreads = 1024;
 struct FrameReserve {
   int width = 1, height = 1, samples = 1;  ///< the target's size and sample count
   std::uint64_t triangles = 0;             ///< triangles submitted by the frame's draws
+  /// Vertices of the frame's indexed draws, which the vertex stage projects once each (at 32
+  /// bytes a vertex); at most 2^32 - 1.
+  std::uint64_t vertices = 0;
 };
 
 /// Renders frames. Holds worker threads and per-frame memory, so keep one alive across frames.
@@ -155,11 +158,11 @@ class Renderer {
   Renderer& operator=(Renderer&&) noexcept;
 
   /// Sizes and touches the memory of a frame as large as `frame` (the per-chunk setups and
-  /// bins, the tile tables), and starts the worker threads, so that the first frame of that
-  /// size costs what the later ones do. A larger frame still grows the memory as it needs; a
-  /// Renderer never shrinks it. Throws Error{kInvalidArgument} for a size outside
-  /// 1..kMaxTargetSize or a sample count other than 1, 4, 8 or 16; does nothing for
-  /// Isa::kReference, which keeps no memory between frames.
+  /// bins, the tile tables, the projected vertices), and starts the worker threads, so that the
+  /// first frame of that size costs what the later ones do. A larger frame still grows the
+  /// memory as it needs; a Renderer never shrinks it. Throws Error{kInvalidArgument} for a size
+  /// outside 1..kMaxTargetSize, a sample count other than 1, 4, 8 or 16, or counts past their
+  /// bounds; does nothing for Isa::kReference, which keeps no memory between frames.
   void reserve(const FrameReserve& frame);
 
   /// Renders one frame: clear, draws, resolve. Validates every draw first and throws

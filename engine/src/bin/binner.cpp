@@ -101,7 +101,8 @@ void ChunkPlan::single() {
 
 std::uint32_t set_up_chunk(Chunk& chunk, std::span<const ChunkPiece> pieces,
                            std::span<const Draw> draws, front::FrontEnd front_end, int width,
-                           int height, int samples, front::FrontStats& stats) {
+                           int height, int samples, front::FrontStats& stats,
+                           std::span<const front::VertexCache> vertices) {
   chunk.tris.clear();
   chunk.planes.clear();
   chunk.draw_starts.clear();
@@ -109,7 +110,7 @@ std::uint32_t set_up_chunk(Chunk& chunk, std::span<const ChunkPiece> pieces,
   for (const ChunkPiece& p : pieces) {
     chunk.draw_starts.push_back({p.draw, static_cast<std::uint32_t>(chunk.tris.size())});
     front_end(draws[p.draw], p.draw, p.begin, p.end, width, height, chunk.tris, stats,
-              &chunk.planes, samples);
+              &chunk.planes, samples, vertices.empty() ? nullptr : &vertices[p.draw]);
     triangles += p.end - p.begin;
   }
   return triangles;

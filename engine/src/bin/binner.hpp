@@ -89,10 +89,12 @@ struct Chunk {
 };
 
 /// Sets up `pieces` into `chunk` (replacing what it held) with `front_end`, piece by piece, and
-/// records where each draw starts. Returns the triangles submitted.
+/// records where each draw starts. Returns the triangles submitted. `vertices`: one cache per
+/// draw from the vertex stage (front/vertex_stage.hpp), or empty for none.
 std::uint32_t set_up_chunk(Chunk& chunk, std::span<const ChunkPiece> pieces,
                            std::span<const Draw> draws, front::FrontEnd front_end, int width,
-                           int height, int samples, front::FrontStats& stats);
+                           int height, int samples, front::FrontStats& stats,
+                           std::span<const front::VertexCache> vertices = {});
 
 /// Appends the runs of `chunk`'s bin for `tile` to `runs`, one per draw, in order.
 void append_runs(const Chunk& chunk, int tile, std::vector<raster::BinRun>& runs);

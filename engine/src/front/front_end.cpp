@@ -164,7 +164,8 @@ void TriangleFrontEnd::run(std::uint32_t t) {
 
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                   FrontStats& stats, std::vector<Plane>* planes, int samples) {
+                   FrontStats& stats, std::vector<Plane>* planes, int samples,
+                   const VertexCache* /*vertices*/) {
   TriangleFrontEnd front(draw, draw_index, width, height, out, stats, planes, samples);
   for (std::uint32_t t = begin; t < end; ++t) front.run(t);
 }

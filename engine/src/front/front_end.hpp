@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "front/setup.hpp"
+#include "front/vertex_stage.hpp"
 #include "mosaic/draw.hpp"
 #include "mosaic/renderer.hpp"
 
@@ -40,14 +41,18 @@ std::uint32_t triangle_count(const Draw& draw);
 /// fallback of the SIMD one (front/setup_simd.hpp), which gives the same output.
 /// `samples`: the frame's sample count, whose pattern culls triangles whose box holds no sample
 /// position (0: no such cull, as the occlusion queries ask).
+/// `vertices`: the draw's projected vertices (front/vertex_stage.hpp), or null or empty. The
+/// SIMD front ends read them instead of the draw's positions; this one, the oracle, ignores them.
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                   FrontStats& stats, std::vector<Plane>* planes = nullptr, int samples = 0);
+                   FrontStats& stats, std::vector<Plane>* planes = nullptr, int samples = 0,
+                   const VertexCache* vertices = nullptr);
 
 /// A front end with run_front_end()'s signature: the scalar one or a SIMD one (simd/dispatch.hpp).
 using FrontEnd = void (*)(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                           std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                          FrontStats& stats, std::vector<Plane>* planes, int samples);
+                          FrontStats& stats, std::vector<Plane>* planes, int samples,
+                          const VertexCache* vertices);
 
 /// Vertex fetch: a draw's vertex in window-homogeneous space (pixel x = X / W).
 struct VertexFetch {

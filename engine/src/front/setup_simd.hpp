@@ -11,6 +11,10 @@
 // end (TriangleFrontEnd) in its place in submission order. A shader draw's varying planes are
 // set up in lanes too, as setup_varyings() sets them up.
 //
+// It also fills the vertex stage's cache (front/vertex_stage.hpp) with the same per-vertex
+// operations in lanes of vertices; a draw with a cache reads its triangles' corners from it
+// already projected. Varyings are fetched only for the triangles that are drawn.
+//
 // The snapped 16.8 coordinates, areas and edge functions are integers below 2^50, computed in
 // double lanes: exact, as in the scalar int64 code (fixed_point.hpp has the bit budget).
 #pragma once
@@ -36,14 +40,30 @@ struct FrontEndSimd {
   static constexpr int N = static_cast<int>(D::size);  ///< triangles per batch
   static constexpr std::uint32_t kAllLanes = (1u << N) - 1;
 
+  using I = xsimd::batch<std::int64_t, A>;
+
   /// A batch's vertices, structure of arrays: [corner][lane].
   struct Vertices {
     alignas(64) double X[3][N], Y[3][N], Z[3][N], W[3][N];
-    alignas(64) double color[3][kColorChannels][N];
     std::uint32_t nonfinite = 0;  ///< lanes with a NaN or infinite coordinate
     /// X, Y, Z, W hold Draw::positions as they are: setup() does the rest of VertexFetch (the
     /// non-finite test and the viewport map) in lanes.
     bool raw = false;
+    /// X, Y, Z, W hold the corners' projections from the vertex stage instead (px, py, z, q of
+    /// ProjectedVertex), and the lanes' clip classes are already known.
+    bool cached = false;
+    std::uint32_t cached_scalar = 0, cached_outside = 0;
+    /// Corner k of lane l is vertex vertex[k][l]: its varyings are fetched by it.
+    alignas(64) std::int64_t vertex[3][N];
+    alignas(64) double color[3][kColorChannels][N];  ///< vertex colours, submitted corners
+  };
+
+  /// One vertex per lane after VertexFetch: the clip tests, the perspective divide and snapping.
+  struct Projection {
+    D px, py, z, q;  ///< as front/vertex_stage.hpp keeps them
+    B nonfinite;     ///< a raw lane with a NaN or infinite coordinate
+    B clip;          ///< vertex_code::kClip
+    B beyond[6];     ///< vertex_code's clip planes, in its bit order
   };
 
   /// A lane's plane before rounding to float.
@@ -63,10 +83,13 @@ struct FrontEndSimd {
     alignas(64) double x0[N], y0[N], z_min[N], z_max[N];
     PlaneLanes z, q;
     PlaneLanes c_q[kColorChannels];
-    // A shader draw's varyings: what their planes need of the geometry, the drawn lanes'
-    // varyings (oriented corners, corner 0 first), and their planes, varying k·q.
-    alignas(64) double xs[3][N], ys[3][N], area_px2[N], qn[3][N];
-    std::uint32_t ccw;  ///< lanes whose corners 1 and 2 swapped to orient them
+    // What the planes of vertex colours and varyings need of the geometry (oriented corners),
+    // and 1/W normalised by the largest corner's.
+    alignas(64) double xs[3][N], ys[3][N], area_px2[N], qo[3][N], qn[3][N];
+    alignas(64) double ccw_lanes[N];  ///< 1 where corners 1 and 2 swapped to orient them, else 0
+
+    // A shader draw's varyings: the drawn lanes' (oriented corners, corner 0 first), and their
+    // planes, varying k·q.
     alignas(64) double vary[3][kMaxVaryings][N];
     PlaneLanes vary_q[kMaxVaryings];
   };
@@ -108,35 +131,66 @@ struct FrontEndSimd {
     ddy.store_aligned(out.ddy);
   }
 
-  static void store_color(Vertices& v, int k, int l, const std::array<double, kColorChannels>& c) {
-    for (int ch = 0; ch < kColorChannels; ++ch) v.color[k][ch][l] = c[ch];
+  /// The oriented corners' 1/W normalised as setup_triangle() does (only ratios matter, so the
+  /// largest is 1), into r.qn, and its plane into r.q.
+  static void q_plane(const D (&Xs)[3], const D (&Ys)[3], D area, Results& r) {
+    const D Qo[3] = {load(r.qo[0]), load(r.qo[1]), load(r.qo[2])};
+    const D qmax = max3(Qo[0], Qo[1], Qo[2]);
+    const D qn[3] = {Qo[0] / qmax, Qo[1] / qmax, Qo[2] / qmax};
+    for (int k = 0; k < 3; ++k) qn[k].store_aligned(r.qn[k]);
+    make_plane(Xs, Ys, area, qn[0], qn[1], qn[2], r.q);
   }
 
-  /// setup_varyings() for the drawn lanes of the batch at t0: their varyings are fetched only
-  /// now, after the culls, as TriangleFrontEnd::run() reads them (floats widened to double) and
-  /// in oriented corner order; then their planes over setup()'s geometry.
-  static void varying_planes(const TriangleFrontEnd& scalar, std::uint32_t t0, std::uint32_t drawn,
-                             Results& r) {
-    const Draw& draw = scalar.fetch.draw;
-    const int nvary = scalar.nvary;
-    for (std::uint32_t bits = drawn; bits; bits &= bits - 1) {
-      const int l = std::countr_zero(bits);
-      const bool swap = (r.ccw >> l) & 1;
-      for (int k = 0; k < 3; ++k) {
-        const int c = swap && k > 0 ? 3 - k : k;  // oriented corner k is submitted corner c
-        const std::uint32_t i = scalar.fetch.vertex(t0 + static_cast<std::uint32_t>(l), c);
-        const float* row =
-            draw.attributes.data() + static_cast<std::size_t>(i) * draw.attribute_count;
-        for (int j = 0; j < nvary; ++j) r.vary[k][j][l] = row[draw.varyings[j]];
-      }
+  /// Oriented corners: 1 and 2 swap where the triangle was counter-clockwise on screen.
+  static std::array<D, 3> oriented(B ccw, const D (&a)[3]) {
+    return {a[0], xsimd::select(ccw, a[2], a[1]), xsimd::select(ccw, a[1], a[2])};
+  }
+
+  /// The interpolated vertex colours of setup_triangle() for the drawn lanes: which interpolate
+  /// (their corners' colours differ), and their planes.
+  static void color_planes(const Vertices& v, std::uint32_t drawn, Results& r) {
+    const B ccw = load(r.ccw_lanes) != D(0.0);
+    std::array<D, 3> c[kColorChannels];
+    B equal(true);
+    for (int ch = 0; ch < kColorChannels; ++ch) {
+      const D cs[3] = {load(v.color[0][ch]), load(v.color[1][ch]), load(v.color[2][ch])};
+      c[ch] = oriented(ccw, cs);
+      equal = equal && c[ch][0] == c[ch][1] && c[ch][0] == c[ch][2];
     }
+    r.interpolated = M::bits(!equal) & drawn;
+    if (!r.interpolated) return;
     const D Xs[3] = {load(r.xs[0]), load(r.xs[1]), load(r.xs[2])};
     const D Ys[3] = {load(r.ys[0]), load(r.ys[1]), load(r.ys[2])};
     const D area = load(r.area_px2);
+    q_plane(Xs, Ys, area, r);
     const D qn[3] = {load(r.qn[0]), load(r.qn[1]), load(r.qn[2])};
-    for (int k = 0; k < nvary; ++k)
-      make_plane(Xs, Ys, area, load(r.vary[0][k]) * qn[0], load(r.vary[1][k]) * qn[1],
-                 load(r.vary[2][k]) * qn[2], r.vary_q[k]);
+    for (int ch = 0; ch < kColorChannels; ++ch)
+      make_plane(Xs, Ys, area, c[ch][0] * qn[0], c[ch][1] * qn[1], c[ch][2] * qn[2], r.c_q[ch]);
+  }
+
+  /// setup_varyings() after the culls: the varyings gathered by vertex (floats widened to double,
+  /// as TriangleFrontEnd::run() reads them) in oriented corner order, then their planes over
+  /// setup()'s geometry.
+  static void varying_planes(const TriangleFrontEnd& scalar, const Vertices& v, Results& r) {
+    const Draw& draw = scalar.fetch.draw;
+    const int nvary = scalar.nvary;
+    const B ccw = load(r.ccw_lanes) != D(0.0);
+    I row[3];
+    for (int k = 0; k < 3; ++k)
+      row[k] = I::load_aligned(v.vertex[k]) * I(static_cast<std::int64_t>(draw.attribute_count));
+    const D Xs[3] = {load(r.xs[0]), load(r.xs[1]), load(r.xs[2])};
+    const D Ys[3] = {load(r.ys[0]), load(r.ys[1]), load(r.ys[2])};
+    const D area = load(r.area_px2);
+    q_plane(Xs, Ys, area, r);
+    const D qn[3] = {load(r.qn[0]), load(r.qn[1]), load(r.qn[2])};
+    for (int j = 0; j < nvary; ++j) {
+      const float* column = draw.attributes.data() + draw.varyings[j];
+      const D a[3] = {D::gather(column, row[0]), D::gather(column, row[1]),
+                      D::gather(column, row[2])};
+      const auto o = oriented(ccw, a);
+      for (int k = 0; k < 3; ++k) o[k].store_aligned(r.vary[k][j]);
+      make_plane(Xs, Ys, area, o[0] * qn[0], o[1] * qn[1], o[2] * qn[2], r.vary_q[j]);
+    }
   }
 
   /// Fetches triangles t0 .. t0 + n - 1 into lanes; the lanes past n repeat lane 0, so that they
@@ -144,14 +198,16 @@ struct FrontEndSimd {
   static void fetch(const TriangleFrontEnd& scalar, std::uint32_t t0, int n, Vertices& v) {
     const Draw& draw = scalar.fetch.draw;
     v.nonfinite = 0;
+    v.cached = false;
     v.raw = draw.positions_xyz.empty();
     if (v.raw) {  // the common case, where VertexFetch's remaining work is cheaper in lanes
       for (int l = 0; l < N; ++l) {
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
         for (int k = 0; k < 3; ++k) {
           const std::uint32_t i = scalar.fetch.vertex(t, k);
-          const glm::vec4& p = draw.positions[i];  // by value, GCC moved it through the stack
-          v.X[k][l] = p.x;
+          v.vertex[k][l] = i;
+          const glm::vec4& p = draw.positions[i];
+          v.X[k][l] = p.x;  // by value, GCC moved p through the stack
           v.Y[k][l] = p.y;
           v.Z[k][l] = p.z;
           v.W[k][l] = p.w;
@@ -164,8 +220,10 @@ struct FrontEndSimd {
       const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
       bool ok = true;
       for (int k = 0; k < 3; ++k) {
-        ClipVertex c;
-        ok = ok && scalar.fetch(scalar.fetch.vertex(t, k), c);
+        ClipVertex c{};
+        const std::uint32_t i = scalar.fetch.vertex(t, k);
+        v.vertex[k][l] = i;
+        ok = ok && scalar.fetch(i, c);
         v.X[k][l] = c.X;
         v.Y[k][l] = c.Y;
         v.Z[k][l] = c.Z;
@@ -176,62 +234,180 @@ struct FrontEndSimd {
     }
   }
 
-  /// clip_triangle()'s classification, the perspective divide and setup_triangle(), in lanes.
-  static void setup(const Vertices& v, const VertexFetch& fetch, int width, int height,
-                    bool per_vertex, int nvary, const SampleSpots& spots, Results& r) {
-    const DrawState& state = fetch.draw.state;
-    constexpr double kGuard = kGuardBandPx;
-    const D w(static_cast<double>(width)), h(static_cast<double>(height));
-    D X[3], Y[3], Z[3], W[3];
-    for (int k = 0; k < 3; ++k) {
-      X[k] = load(v.X[k]);
-      Y[k] = load(v.Y[k]);
-      Z[k] = load(v.Z[k]);
-      W[k] = load(v.W[k]);
-    }
-    std::uint32_t nonfinite = v.nonfinite;
-    if (v.raw) {
+  static void store_color(Vertices& v, int k, int l, const std::array<double, kColorChannels>& c) {
+    for (int ch = 0; ch < kColorChannels; ++ch) v.color[k][ch][l] = c[ch];
+  }
+
+  /// fetch() for a draw with a vertex cache: the corners' projections, copied into lanes (scalar
+  /// loads, which beat gather instructions here), and the lanes' clip classes from the corners'
+  /// codes, as setup() finds them from the positions.
+  static void fetch_cached(const TriangleFrontEnd& scalar, const VertexCache& cache,
+                           std::uint32_t t0, int n, Vertices& v) {
+    namespace vc = vertex_code;
+    v.nonfinite = 0;
+    v.raw = false;
+    v.cached = true;
+    const std::span<const std::uint32_t> indices = scalar.fetch.draw.indices;
+    std::uint32_t slow = 0, outside = 0;
+    for (int l = 0; l < N; ++l) {
+      const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
+      std::uint32_t all = 0xff, any = 0;
       for (int k = 0; k < 3; ++k) {
-        nonfinite |= M::bits(!(finite(X[k]) && finite(Y[k]) && finite(Z[k]) && finite(W[k])));
-        fetch.to_window(X[k], Y[k], W[k], X[k], Y[k]);
+        const std::uint32_t i =
+            indices.empty() ? 3 * t + static_cast<std::uint32_t>(k) : indices[3 * t + k];
+        const ProjectedVertex& p = cache.data[i];
+        v.vertex[k][l] = i;
+        v.X[k][l] = p.px;
+        v.Y[k][l] = p.py;
+        v.Z[k][l] = p.z;
+        v.W[k][l] = p.q;
+        all &= p.code;
+        any |= p.code;
+        if (scalar.per_vertex)
+          for (int ch = 0; ch < kColorChannels; ++ch)
+            v.color[k][ch][l] = static_cast<double>((p.rgba >> (8 * ch)) & 0xffu);
+      }
+      const bool out = (all & vc::kClipPlanes) != 0;
+      const bool to_scalar = (any & vc::kNonFinite) || (!out && (any & vc::kClip));
+      slow |= static_cast<std::uint32_t>(to_scalar) << l;
+      outside |= static_cast<std::uint32_t>(out) << l;
+    }
+    v.cached_scalar = slow;
+    v.cached_outside = outside;
+  }
+
+  /// The projection of VertexFetch's output in lanes, one vertex per lane: for raw positions the
+  /// non-finite test and the viewport map first, as VertexFetch does them.
+  static Projection project(D X, D Y, D Z, D W, bool raw, const VertexFetch& fetch, D w, D h) {
+    constexpr double kGuard = kGuardBandPx;
+    Projection p;
+    p.nonfinite = B(false);
+    if (raw) {
+      p.nonfinite = !(finite(X) && finite(Y) && finite(Z) && finite(W));
+      fetch.to_window(X, Y, W, X, Y);
+    }
+    // clip_triangle()'s tests: beyond a side of the viewport (or the near or far plane); outside
+    // the guard band or the depth range.
+    p.beyond[0] = X < D(0.0);
+    p.beyond[1] = X > w * W;
+    p.beyond[2] = Y < D(0.0);
+    p.beyond[3] = Y > h * W;
+    p.beyond[4] = Z < D(0.0);
+    p.beyond[5] = Z > W;
+    const D gw = D(kGuard) * W;
+    const B outside = Z < D(0.0) || W - Z < D(0.0) || X + gw < D(0.0) || gw - X < D(0.0) ||
+                      Y + gw < D(0.0) || gw - Y < D(0.0);
+    // The perspective divide (divide() of front_end.cpp). W <= 0 or a non-finite result is left
+    // to the scalar code, which counts it.
+    p.q = D(1.0) / W;
+    const D x = X * p.q, y = Y * p.q;
+    const B divide_ok = W > D(0.0) && finite(x) && finite(y) && finite(p.q);
+    p.z = M::to_float(Z * p.q);  // ScreenVertex::z is a float
+    p.px = snap(x);
+    p.py = snap(y);
+    p.clip = outside || !divide_ok;
+    return p;
+  }
+
+  /// The vertex stage: vertices [begin, end) of `draw` projected into `cache` in lanes.
+  static void project_vertices(const Draw& draw, int width, int height, std::uint32_t begin,
+                               std::uint32_t end, const VertexCache& cache) {
+    namespace vc = vertex_code;
+    const VertexFetch fetch(draw, width, height);
+    const bool raw = draw.positions_xyz.empty();
+    const D w(static_cast<double>(width)), h(static_cast<double>(height));
+    alignas(64) double X[N], Y[N], Z[N], W[N];
+    alignas(64) double px[N], py[N], z[N], q[N], codes[N];
+    for (std::uint32_t i0 = begin; i0 < end; i0 += N) {
+      const int n = static_cast<int>(std::min<std::uint32_t>(N, end - i0));
+      std::uint32_t nonfinite = 0;
+      for (int l = 0; l < N; ++l) {
+        const std::uint32_t i = i0 + static_cast<std::uint32_t>(l < n ? l : 0);
+        if (raw) {
+          const glm::vec4& p = draw.positions[i];
+          X[l] = p.x;
+          Y[l] = p.y;
+          Z[l] = p.z;
+          W[l] = p.w;
+        } else {
+          ClipVertex c{};
+          if (!fetch(i, c)) nonfinite |= 1u << l;
+          X[l] = c.X;
+          Y[l] = c.Y;
+          Z[l] = c.Z;
+          W[l] = c.W;
+        }
+      }
+      const Projection p = project(load(X), load(Y), load(Z), load(W), raw, fetch, w, h);
+      p.px.store_aligned(px);
+      p.py.store_aligned(py);
+      p.z.store_aligned(z);
+      p.q.store_aligned(q);
+      // The code's bits summed in lanes (each bit once: exact).
+      D code = xsimd::select(p.clip, D(vc::kClip), D(0.0));
+      code += xsimd::select(p.nonfinite, D(vc::kNonFinite), D(0.0));
+      for (int j = 0; j < 6; ++j) code += xsimd::select(p.beyond[j], D(1 << j), D(0.0));
+      code.store_aligned(codes);
+      const bool with_color = draw.color_source == ColorSource::kPerVertex;
+      for (int l = 0; l < n; ++l) {
+        ProjectedVertex& out = cache.data[i0 + static_cast<std::uint32_t>(l)];
+        // Exact: the snapped coordinates are integers of at most 2^23, z already a float.
+        out.px = static_cast<float>(px[l]);
+        out.py = static_cast<float>(py[l]);
+        out.z = static_cast<float>(z[l]);
+        out.q = q[l];
+        out.code = static_cast<std::uint32_t>(codes[l]) | ((nonfinite >> l) & 1u) * vc::kNonFinite;
+        if (with_color) {
+          const Rgba8 c = draw.colors[i0 + static_cast<std::uint32_t>(l)];
+          out.rgba = std::uint32_t{c.r} | (std::uint32_t{c.g} << 8) | (std::uint32_t{c.b} << 16) |
+                     (std::uint32_t{c.a} << 24);
+        }
       }
     }
-    // clip_triangle(): culled when all three vertices are beyond one side of the viewport (or
-    // the near or far plane); inside when every vertex is inside every clip plane.
-    B cull_l(true), cull_r(true), cull_t(true), cull_b(true), cull_n(true), cull_f(true);
-    B outside_any(false);
-    for (int k = 0; k < 3; ++k) {
-      cull_l = cull_l && X[k] < D(0.0);
-      cull_r = cull_r && X[k] > w * W[k];
-      cull_t = cull_t && Y[k] < D(0.0);
-      cull_b = cull_b && Y[k] > h * W[k];
-      cull_n = cull_n && Z[k] < D(0.0);
-      cull_f = cull_f && Z[k] > W[k];
-      const D gw = D(kGuard) * W[k];
-      outside_any = outside_any || Z[k] < D(0.0) || W[k] - Z[k] < D(0.0) || X[k] + gw < D(0.0) ||
-                    gw - X[k] < D(0.0) || Y[k] + gw < D(0.0) || gw - Y[k] < D(0.0);
-    }
-    const B clip_culled = cull_l || cull_r || cull_t || cull_b || cull_n || cull_f;
+  }
 
-    // The perspective divide (divide() of front_end.cpp). A vertex with W <= 0 or a non-finite
-    // result goes to the scalar code, which counts it.
-    D x[3], y[3], q[3], z[3];
-    B divide_ok(true);
-    for (int k = 0; k < 3; ++k) {
-      divide_ok = divide_ok && W[k] > D(0.0);
-      q[k] = D(1.0) / W[k];
-      x[k] = X[k] * q[k];
-      y[k] = Y[k] * q[k];
-      divide_ok = divide_ok && finite(x[k]) && finite(y[k]) && finite(q[k]);
-      z[k] = M::to_float(Z[k] * q[k]);  // ScreenVertex::z is a float
+  /// clip_triangle()'s classification, the perspective divide and setup_triangle(), in lanes; a
+  /// cached v brings its corners already projected.
+  static void setup(const Vertices& v, const VertexFetch& fetch, int width, int height, bool shaded,
+                    const SampleSpots& spots, Results& r) {
+    const D w(static_cast<double>(width)), h(static_cast<double>(height));
+    D px[3], py[3], z[3], q[3];
+    std::uint32_t scalar, clip_culled;
+    if (v.cached) {
+      for (int k = 0; k < 3; ++k) {
+        px[k] = load(v.X[k]);
+        py[k] = load(v.Y[k]);
+        z[k] = load(v.Z[k]);
+        q[k] = load(v.W[k]);
+      }
+      scalar = v.cached_scalar;
+      clip_culled = v.cached_outside;
+    } else {
+      Projection p[3];
+      for (int k = 0; k < 3; ++k) {
+        p[k] = project(load(v.X[k]), load(v.Y[k]), load(v.Z[k]), load(v.W[k]), v.raw, fetch, w, h);
+        px[k] = p[k].px;
+        py[k] = p[k].py;
+        z[k] = p[k].z;
+        q[k] = p[k].q;
+      }
+      // clip_triangle(): culled when all three vertices are beyond one clip plane; inside when
+      // every vertex is inside every one. A triangle in neither case is the scalar code's.
+      B culled(false);
+      for (int j = 0; j < 6; ++j)
+        culled = culled || (p[0].beyond[j] && p[1].beyond[j] && p[2].beyond[j]);
+      const std::uint32_t nonfinite =
+          v.nonfinite | M::bits(p[0].nonfinite || p[1].nonfinite || p[2].nonfinite);
+      scalar = nonfinite | M::bits(!culled && (p[0].clip || p[1].clip || p[2].clip));
+      clip_culled = M::bits(culled);
     }
+    set_up(px, py, z, q, scalar, clip_culled, fetch.draw.state, w, h, shaded, spots, r);
+  }
 
-    // setup_triangle(): snap, area, culling.
-    D px[3], py[3];
-    for (int k = 0; k < 3; ++k) {
-      px[k] = snap(x[k]);
-      py[k] = snap(y[k]);
-    }
+  /// setup_triangle() in lanes from the corners' projections, for lanes not in `scalar`.
+  static void set_up(const D (&px)[3], const D (&py)[3], const D (&z)[3], const D (&q)[3],
+                     std::uint32_t scalar, std::uint32_t clip_culled, const DrawState& state, D w,
+                     D h, bool shaded, const SampleSpots& spots, Results& r) {
     const D area2 = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]);
     const B degenerate = area2 == D(0.0);
     const B ccw = area2 < D(0.0);
@@ -239,22 +415,6 @@ struct FrontEndSimd {
     const B face = state.cull == CullMode::kBack    ? !front
                    : state.cull == CullMode::kFront ? front
                                                     : B(false);
-
-    // Orient clockwise on screen: corners 1 and 2 swap where the area is negative.
-    const D ox[3] = {px[0], xsimd::select(ccw, px[2], px[1]), xsimd::select(ccw, px[1], px[2])};
-    const D oy[3] = {py[0], xsimd::select(ccw, py[2], py[1]), xsimd::select(ccw, py[1], py[2])};
-    for (int e = 0; e < 3; ++e) {
-      const int f = (e + 1) % 3;
-      const D dx = ox[f] - ox[e];
-      const D dy = oy[f] - oy[e];
-      // The fill rule as in setup_triangle(): an excluded edge needs E > 0, i.e. E - 1 >= 0.
-      const B horizontal_kept = state.fill_rule == FillRule::kD3D ? dx > D(0.0) : dx < D(0.0);
-      const B included = dy < D(0.0) || (dy == D(0.0) && horizontal_kept);
-      const D c = ox[e] * oy[f] - ox[f] * oy[e];
-      (-dy).store_aligned(r.ea[e]);
-      dx.store_aligned(r.eb[e]);
-      xsimd::select(included, c, c - D(1.0)).store_aligned(r.ec[e]);
-    }
 
     // The pixel box: floor(v / 256) is the scalar arithmetic shift, exact in double.
     constexpr double kPxPerUnit = 1.0 / kSubpixelOne;
@@ -280,68 +440,56 @@ struct FrontEndSimd {
       const D cy1 = xsimd::min(by1 - D(1.0), xsimd::floor((maxy - sy) * D(kPxPerUnit)));
       holds = holds || (cx0 <= cx1 && cy0 <= cy1);
     }
+    // Which counter the lane's triangle goes to, in the scalar code's order of tests.
+    r.scalar = scalar;
+    const std::uint32_t culled = scalar | clip_culled;
+    r.degenerate = M::bits(degenerate) & ~culled;
+    r.face = M::bits(face) & ~(culled | r.degenerate);
+    r.outside = (clip_culled & ~scalar) | (M::bits(box_empty) & ~(culled | r.degenerate | r.face));
+    r.no_sample = M::bits(!holds) & ~(culled | r.degenerate | r.face | r.outside);
+    r.interpolated = 0;
+    if ((r.scalar | r.outside | r.face | r.degenerate | r.no_sample) == kAllLanes)
+      return;  // nothing drawn: no edges or planes are needed
     bx0.store_aligned(r.bx0);
     by0.store_aligned(r.by0);
     bx1.store_aligned(r.bx1);
     by1.store_aligned(r.by1);
 
-    // Which counter the lane's triangle goes to, in the scalar code's order of tests.
-    r.scalar = nonfinite | M::bits(!clip_culled && (outside_any || !divide_ok));
-    const std::uint32_t culled = r.scalar | M::bits(clip_culled);
-    r.degenerate = M::bits(degenerate) & ~culled;
-    r.face = M::bits(face) & ~(culled | r.degenerate);
-    r.outside = (M::bits(clip_culled) & ~r.scalar) |
-                (M::bits(box_empty) & ~(culled | r.degenerate | r.face));
-    r.no_sample = M::bits(!holds) & ~(culled | r.degenerate | r.face | r.outside);
-    r.interpolated = 0;
-    if ((r.scalar | r.outside | r.face | r.degenerate | r.no_sample) == kAllLanes)
-      return;  // nothing drawn
+    // Orient clockwise on screen: corners 1 and 2 swap where the area is negative.
+    const D ox[3] = {px[0], xsimd::select(ccw, px[2], px[1]), xsimd::select(ccw, px[1], px[2])};
+    const D oy[3] = {py[0], xsimd::select(ccw, py[2], py[1]), xsimd::select(ccw, py[1], py[2])};
+    for (int e = 0; e < 3; ++e) {
+      const int f = (e + 1) % 3;
+      const D dx = ox[f] - ox[e];
+      const D dy = oy[f] - oy[e];
+      // The fill rule as in setup_triangle(): an excluded edge needs E > 0, i.e. E - 1 >= 0.
+      const B horizontal_kept = state.fill_rule == FillRule::kD3D ? dx > D(0.0) : dx < D(0.0);
+      const B included = dy < D(0.0) || (dy == D(0.0) && horizontal_kept);
+      const D c = ox[e] * oy[f] - ox[f] * oy[e];
+      (-dy).store_aligned(r.ea[e]);
+      dx.store_aligned(r.eb[e]);
+      xsimd::select(included, c, c - D(1.0)).store_aligned(r.ec[e]);
+    }
 
     // Planes over the oriented corners in pixels (x / 256 is exact: a power of two).
     const D Xs[3] = {ox[0] * D(kPxPerUnit), ox[1] * D(kPxPerUnit), ox[2] * D(kPxPerUnit)};
     const D Ys[3] = {oy[0] * D(kPxPerUnit), oy[1] * D(kPxPerUnit), oy[2] * D(kPxPerUnit)};
-    const auto oriented = [&](const D(&a)[3]) {
-      return std::array<D, 3>{a[0], xsimd::select(ccw, a[2], a[1]), xsimd::select(ccw, a[1], a[2])};
-    };
-    const auto Zo = oriented(z);
-    const auto Qo = oriented(q);
+    const auto Zo = oriented(ccw, z);
     const D area_px2 = xsimd::abs(area2) * D(kPxPerUnit * kPxPerUnit);
     Xs[0].store_aligned(r.x0);
     Ys[0].store_aligned(r.y0);
     make_plane(Xs, Ys, area_px2, Zo[0], Zo[1], Zo[2], r.z);
     min3(Zo[0], Zo[1], Zo[2]).store_aligned(r.z_min);
     max3(Zo[0], Zo[1], Zo[2]).store_aligned(r.z_max);
-
-    if (per_vertex) {
-      std::array<D, 3> c[kColorChannels];
-      B equal(true);
-      for (int ch = 0; ch < kColorChannels; ++ch) {
-        const D cc[3] = {load(v.color[0][ch]), load(v.color[1][ch]), load(v.color[2][ch])};
-        c[ch] = oriented(cc);
-        equal = equal && c[ch][0] == c[ch][1] && c[ch][0] == c[ch][2];
-      }
-      r.interpolated = M::bits(!equal);
-      if (r.interpolated) {
-        // As setup_triangle(): only ratios of q matter, so the largest is normalised to 1.
-        const D qmax = max3(Qo[0], Qo[1], Qo[2]);
-        const D qn[3] = {Qo[0] / qmax, Qo[1] / qmax, Qo[2] / qmax};
-        make_plane(Xs, Ys, area_px2, qn[0], qn[1], qn[2], r.q);
-        for (int ch = 0; ch < kColorChannels; ++ch)
-          make_plane(Xs, Ys, area_px2, c[ch][0] * qn[0], c[ch][1] * qn[1], c[ch][2] * qn[2],
-                     r.c_q[ch]);
-      }
-    }
-    if (nvary > 0) {  // setup_varyings(): q here, each varying times q in varying_planes()
-      const D qmax = max3(Qo[0], Qo[1], Qo[2]);
-      const D qn[3] = {Qo[0] / qmax, Qo[1] / qmax, Qo[2] / qmax};
-      make_plane(Xs, Ys, area_px2, qn[0], qn[1], qn[2], r.q);
+    if (shaded) {  // for color_planes() and varying_planes()
+      const auto Qo = oriented(ccw, q);
       for (int k = 0; k < 3; ++k) {
         Xs[k].store_aligned(r.xs[k]);
         Ys[k].store_aligned(r.ys[k]);
-        qn[k].store_aligned(r.qn[k]);
+        Qo[k].store_aligned(r.qo[k]);
       }
       area_px2.store_aligned(r.area_px2);
-      r.ccw = M::bits(ccw);
+      xsimd::select(ccw, D(1.0), D(0.0)).store_aligned(r.ccw_lanes);
     }
   }
 
@@ -407,57 +555,67 @@ struct FrontEndSimd {
   /// run_front_end() with the common case in lanes.
   static void run(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                   std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                  FrontStats& stats, std::vector<Plane>* planes, int samples) {
+                  FrontStats& stats, std::vector<Plane>* planes, int samples,
+                  const VertexCache* cache) {
     TriangleFrontEnd scalar(draw, draw_index, width, height, out, stats, planes, samples);
+    if (cache && cache->empty()) cache = nullptr;
+    const bool shaded = scalar.per_vertex || scalar.nvary > 0;
     // Batch i is fetched into vertices[i % 2] while batch i - 1 is set up. setup()'s vector loads
     // then find fetch()'s scalar stores in the cache rather than still in flight: a load that
     // spans several in-flight stores waits for them all (store forwarding fails). With the build
     // flag of simd/CMakeLists.txt that removes the same wait inside setup(), ms_setup on
     // random-small (1 thread) went from 6.6 to 6.0 ms on AVX2, 5.2 to 5.1 ms on AVX-512.
     Vertices vertices[2];
-    Results r;
+    Results r{};
     const auto batch_size = [&](std::uint32_t t0) {
       return static_cast<int>(std::min<std::uint32_t>(N, end - t0));
     };
-    if (begin < end) fetch(scalar, begin, batch_size(begin), vertices[0]);
+    const auto fetch_batch = [&](std::uint32_t t0, Vertices& v) {
+      if (cache) {
+        fetch_cached(scalar, *cache, t0, batch_size(t0), v);
+      } else {
+        fetch(scalar, t0, batch_size(t0), v);
+      }
+    };
+    if (begin < end) fetch_batch(begin, vertices[0]);
     int cur = 0;
     for (std::uint32_t t0 = begin; t0 < end; t0 += N, cur ^= 1) {
       const int n = batch_size(t0);
-      if (end - t0 > static_cast<std::uint32_t>(N))
-        fetch(scalar, t0 + N, batch_size(t0 + N), vertices[cur ^ 1]);
-      const Vertices& v = vertices[cur];
-      setup(v, scalar.fetch, width, height, scalar.per_vertex, scalar.nvary, scalar.spots, r);
-      if (scalar.nvary > 0) {
-        const std::uint32_t drawn =
-            ((1u << n) - 1) & ~(r.scalar | r.outside | r.face | r.degenerate | r.no_sample);
-        if (drawn) varying_planes(scalar, t0, drawn, r);
-      }
-      for (int l = 0; l < n; ++l) {
+      if (end - t0 > static_cast<std::uint32_t>(N)) fetch_batch(t0 + N, vertices[cur ^ 1]);
+      setup(vertices[cur], scalar.fetch, width, height, shaded, scalar.spots, r);
+      const std::uint32_t drawn =
+          ((1u << n) - 1) & ~(r.scalar | r.outside | r.face | r.degenerate | r.no_sample);
+      if (drawn && scalar.per_vertex) color_planes(vertices[cur], drawn, r);
+      if (drawn && scalar.nvary > 0) varying_planes(scalar, vertices[cur], r);
+      // The culled lanes are only counted; the scalar and drawn ones append their setups in
+      // submission order.
+      const std::uint32_t lanes = (1u << n) - 1;
+      stats.in += static_cast<std::uint64_t>(std::popcount(lanes & ~r.scalar));
+      stats.outside += static_cast<std::uint64_t>(std::popcount(lanes & r.outside));
+      stats.culled_face += static_cast<std::uint64_t>(std::popcount(lanes & r.face));
+      stats.degenerate += static_cast<std::uint64_t>(std::popcount(lanes & r.degenerate));
+      stats.no_sample += static_cast<std::uint64_t>(std::popcount(lanes & r.no_sample));
+      stats.drawn += static_cast<std::uint64_t>(std::popcount(drawn));
+      for (std::uint32_t bits = (r.scalar & lanes) | drawn; bits; bits &= bits - 1) {
+        const int l = std::countr_zero(bits);
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l);
-        const std::uint32_t bit = 1u << l;
-        if (r.scalar & bit) {
+        if ((r.scalar >> l) & 1u) {
           scalar.run(t);
           continue;
         }
-        ++stats.in;
-        if (r.outside & bit) {
-          ++stats.outside;
-        } else if (r.face & bit) {
-          ++stats.culled_face;
-        } else if (r.degenerate & bit) {
-          ++stats.degenerate;
-        } else if (r.no_sample & bit) {
-          ++stats.no_sample;
-        } else {
-          const Rgba8 flat =
-              draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
-          TriangleSetup& ts = out.emplace_back();
-          store(r, v, l, scalar.per_vertex, flat, draw_index, planes, ts);
-          if (scalar.nvary > 0) store_varyings(r, l, scalar.nvary, *planes, ts);
-          ++stats.drawn;
-        }
+        const Rgba8 flat =
+            draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
+        TriangleSetup& ts = out.emplace_back();
+        store(r, vertices[cur], l, scalar.per_vertex, flat, draw_index, planes, ts);
+        if (scalar.nvary > 0) store_varyings(r, l, scalar.nvary, *planes, ts);
       }
     }
+  }
+
+  /// The vertex stage's entry point (front::VertexStage).
+  static void vertex_stage(const Draw& draw, int width, int height, std::uint32_t begin,
+                           std::uint32_t end, const VertexCache& cache) {
+    project_vertices(draw, width, height, begin, end, cache);
   }
 };
 

@@ -1,0 +1,195 @@
+// The vertex stage (front/vertex_stage.hpp) through Renderer::render(): indexed meshes whose
+// vertices are each projected once equal the reference bit for bit on every SIMD path and
+// thread count, on both sides of the stage's threshold (a draw takes it when its indices
+// outnumber its vertices), with hard vertices (behind the eye, past the guard band, NaN) shared
+// by many triangles, through positions and through positions_xyz with a transform, flat,
+// per-vertex coloured and shaded. (test_front_simd compares the stage's cache with the scalar
+// front end setup by setup.)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "front/vertex_stage.hpp"
+#include "mosaic/mosaic.hpp"
+#include "reference_test_util.hpp"
+
+namespace {
+
+using namespace mosaic;
+
+constexpr int kWidth = 160, kHeight = 120;
+/// Grid cells per side: (kCells + 1)^2 = 441 vertices, a multiple of 3, so that an index buffer
+/// can hold exactly as many indices as there are vertices.
+constexpr int kCells = 20;
+constexpr int kVertices = (kCells + 1) * (kCells + 1);
+static_assert(kVertices % 3 == 0);
+
+/// A wavy grid in world space, seen through a perspective camera from close by, so that its
+/// rows run from behind the eye, across the near plane, to far off; one vertex far past the
+/// guard band and one NaN, each shared by up to six triangles.
+struct Grid {
+  std::vector<glm::vec3> world;
+  std::vector<glm::vec4> clip;
+  std::vector<glm::vec3> normals;
+  std::vector<float> attributes;  // the normals, three floats a vertex
+  std::vector<std::uint32_t> indices;
+  std::vector<Rgba8> colors;
+  glm::mat4 view_projection{1.0f};
+};
+
+Grid make_grid() {
+  Grid g;
+  g.view_projection =
+      glm::perspective(glm::radians(70.0f), float(kWidth) / float(kHeight), 0.5f, 60.0f) *
+      glm::lookAt(glm::vec3(0.3f, 0.25f, 1.5f), glm::vec3(0.0f, 0.0f, -6.0f), glm::vec3(0, 1, 0));
+  // Depth z/w in [0, 1]: glm::perspective gives [-1, 1].
+  const glm::mat4 to_unit_depth(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 1);
+  g.view_projection = to_unit_depth * g.view_projection;
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) {
+      const float x = -8.0f + 16.0f * float(i) / kCells;
+      const float z = 4.0f - 30.0f * float(j) / kCells;
+      g.world.emplace_back(x, 0.6f * std::sin(1.3f * x) * std::cos(0.7f * z), z);
+      g.colors.push_back(test::distinct_color(static_cast<std::uint32_t>(g.world.size())));
+    }
+  g.world[static_cast<std::size_t>(3 * (kCells + 1) + 8)].x = 1e9f;  // past the guard band
+  g.world[static_cast<std::size_t>(2 * (kCells + 1) + 9)].y =
+      std::numeric_limits<float>::quiet_NaN();
+  for (const glm::vec3& p : g.world) {
+    g.clip.push_back(g.view_projection * glm::vec4(p, 1.0f));
+    const glm::vec3 n = glm::normalize(glm::vec3(-0.4f * p.x, 1.0f, 0.2f * p.z));
+    g.normals.push_back(n);
+    g.attributes.insert(g.attributes.end(), {n.x, n.y, n.z});
+  }
+  const auto at = [](int i, int j) { return static_cast<std::uint32_t>(j * (kCells + 1) + i); };
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      g.indices.insert(g.indices.end(), {at(i, j), at(i + 1, j), at(i, j + 1)});
+      g.indices.insert(g.indices.end(), {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return g;
+}
+
+/// The kinds of draw the stage serves, each with its own fetch of a vertex.
+enum class Kind { kClipFlat, kClipPerVertex, kWorldTransformed, kShaded };
+
+const std::uint32_t kNormalVaryings[] = {0, 1, 2};
+
+Draw grid_draw(const Grid& g, Kind kind, std::span<const std::uint32_t> indices) {
+  Draw d;
+  d.indices = indices;
+  d.state.cull = CullMode::kNone;
+  d.color = {200, 120, 40, 255};
+  if (kind == Kind::kWorldTransformed) {
+    d.positions_xyz = g.world;
+    d.transform = g.view_projection;
+  } else {
+    d.positions = g.clip;
+  }
+  if (kind == Kind::kClipPerVertex || kind == Kind::kWorldTransformed) {
+    d.color_source = ColorSource::kPerVertex;
+    d.colors = g.colors;
+  }
+  if (kind == Kind::kShaded) {
+    d.attributes = g.attributes;
+    d.attribute_count = 3;
+    d.varyings = kNormalVaryings;
+    d.shader = normal_color_shader();
+  }
+  return d;
+}
+
+test::Captured render_with(const std::vector<Draw>& draws, RendererOptions options,
+                           bool reserve = false) {
+  RenderTarget target(kWidth, kHeight, 4, TargetOptions{true, true});
+  target.set_clear(test::kClear, 1.0f);
+  Renderer r(options);
+  if (reserve) r.reserve({kWidth, kHeight, 4, 4 * kCells * kCells, 2 * kVertices});
+  Frame frame;
+  frame.draws = draws;
+  return test::capture(r, frame, target);
+}
+
+void expect_same_counts(const FrameStats& ref, const FrameStats& got, const std::string& what) {
+  EXPECT_EQ(ref.triangles_in, got.triangles_in) << what;
+  EXPECT_EQ(ref.triangles_nonfinite, got.triangles_nonfinite) << what;
+  EXPECT_EQ(ref.triangles_clipped, got.triangles_clipped) << what;
+  EXPECT_EQ(ref.triangles_outside, got.triangles_outside) << what;
+  EXPECT_EQ(ref.triangles_degenerate, got.triangles_degenerate) << what;
+  EXPECT_EQ(ref.triangles_no_sample, got.triangles_no_sample) << what;
+}
+
+std::vector<Isa> simd_isas() {
+  std::vector<Isa> v;
+  for (Isa i : available_isas())
+    if (i != Isa::kReference) v.push_back(i);
+  return v;
+}
+
+// Every kind of draw, indexed (the stage), de-indexed (the front end's own fetch), and with
+// index buffers exactly as long as the vertex buffer (no stage) and one triangle longer (the
+// stage): each equals the reference on every ISA at 1, 2 and 3 threads.
+TEST(VertexStage, IndexedMeshesMatchTheReferenceOnBothSidesOfTheThreshold) {
+  const Grid g = make_grid();
+  const std::vector<std::uint32_t> at_threshold(g.indices.begin(), g.indices.begin() + kVertices);
+  const std::vector<std::uint32_t> past_threshold(g.indices.begin(),
+                                                  g.indices.begin() + kVertices + 3);
+  ASSERT_FALSE(front::wants_vertex_stage(grid_draw(g, Kind::kClipFlat, at_threshold)));
+  ASSERT_TRUE(front::wants_vertex_stage(grid_draw(g, Kind::kClipFlat, past_threshold)));
+  for (Kind kind : {Kind::kClipFlat, Kind::kClipPerVertex, Kind::kWorldTransformed, Kind::kShaded})
+    for (const auto* indices : {&g.indices, &at_threshold, &past_threshold}) {
+      const std::vector<Draw> draws{grid_draw(g, kind, *indices)};
+      const std::string what = "kind " + std::to_string(static_cast<int>(kind)) + ", " +
+                               std::to_string(indices->size()) + " indices";
+      const test::Captured ref = render_with(draws, {.isa = Isa::kReference});
+      EXPECT_GT(ref.stats.triangles_nonfinite, 0u) << what;
+      EXPECT_GT(ref.stats.triangles_clipped, 0u) << what;
+      EXPECT_GT(ref.stats.triangles_drawn, 20u) << what;
+      for (Isa isa : simd_isas())
+        for (int threads : {1, 2, 3}) {
+          const std::string w =
+              what + ", " + std::string(to_string(isa)) + ", " + std::to_string(threads);
+          const test::Captured got = render_with(draws, {.threads = threads, .isa = isa});
+          expect_same(ref, got, w);
+          expect_same_counts(ref.stats, got.stats, w);
+        }
+    }
+}
+
+// Two staged draws share the frame's vertex memory at different offsets, beside an unstaged
+// one; a later, larger frame grows that memory, and reserve() sized for it changes nothing.
+TEST(VertexStage, SeveralDrawsAndGrowingFramesShareTheVertexMemory) {
+  const Grid g = make_grid();
+  Grid near = g;
+  for (glm::vec4& c : near.clip) c.z *= 0.5f;  // nearer: drawn over the first grid
+  const std::vector<Draw> one{grid_draw(g, Kind::kClipPerVertex, g.indices)};
+  const std::vector<Draw> three{grid_draw(g, Kind::kClipPerVertex, g.indices),
+                                grid_draw(g, Kind::kClipFlat, {}),
+                                grid_draw(near, Kind::kShaded, near.indices)};
+  // kClipFlat without indices draws vertices 0, 1, 2, 3, 4, 5, ... as triangles.
+  for (Isa isa : simd_isas()) {
+    RenderTarget target(kWidth, kHeight, 4, TargetOptions{true, true});
+    RenderTarget reference_target(kWidth, kHeight, 4, TargetOptions{true, true});
+    Renderer r({.threads = 2, .isa = isa});
+    Renderer reference({.isa = Isa::kReference});
+    for (const auto* draws : {&one, &three, &one, &three}) {
+      Frame frame;
+      frame.draws = *draws;
+      const test::Captured want = test::capture(reference, frame, reference_target);
+      const test::Captured got = test::capture(r, frame, target);
+      const std::string what =
+          std::string(to_string(isa)) + ", " + std::to_string(draws->size()) + " draws";
+      expect_same(want, got, what);
+      expect_same_counts(want.stats, got.stats, what);
+    }
+    const test::Captured plain = render_with(three, {.threads = 2, .isa = isa});
+    const test::Captured reserved = render_with(three, {.threads = 2, .isa = isa}, true);
+    expect_same(plain, reserved, std::string(to_string(isa)) + " after reserve()");
+  }
+}
+
+}  // namespace
