@@ -341,6 +341,37 @@ TEST_F(BadDraw, BothPositionKinds) {
   expect_rejected(Errc::kInvalidDraw, {d});
 }
 
+TEST_F(BadDraw, StridesShorterThanWhatTheyStep) {
+  // A position stride below the position's size would overlap the vertices.
+  Draw d = good_.draw();
+  d.positions = StridedSpan<glm::vec4>(&good_.positions[0], 3, sizeof(glm::vec4) - 4);
+  expect_rejected(Errc::kInvalidDraw, {good_.draw(), d});
+  const std::vector<glm::vec3> xyz(6, glm::vec3(1));
+  Draw x = good_.draw();
+  x.positions = {};
+  x.positions_xyz = StridedSpan<glm::vec3>(xyz.data(), 6, 0);
+  expect_rejected(Errc::kInvalidDraw, {x});
+  // Attribute rows closer together than the attributes in a row, and a strided buffer that
+  // ends before the last vertex's attributes.
+  const std::vector<float> attrs(6 * 4, 0.5f);
+  const std::uint32_t varyings[] = {0, 1, 2};
+  Draw shaded = good_.draw();
+  shaded.shader = normal_color_shader();
+  shaded.attributes = attrs;
+  shaded.attribute_count = 3;
+  shaded.varyings = varyings;
+  shaded.attribute_stride = 2;
+  expect_rejected(Errc::kInvalidDraw, {shaded});
+  shaded.attribute_stride = 5;  // the last vertex's row would start at 25, past 24 floats
+  expect_rejected(Errc::kInvalidDraw, {shaded});
+  shaded.attribute_stride = 4;  // 5 * 4 + 3 = 23 floats: fits
+  Renderer r;
+  RenderTarget t(16, 16, 4);
+  Frame f;
+  f.draws = std::span<const Draw>(&shaded, 1);
+  EXPECT_NO_THROW(r.render(f, t));
+}
+
 // --- Non-finite coordinates ----------------------------------------------------------------------
 
 TEST(ApiNonFinite, BadTrianglesAreCulledAndDoNotDisturbTheOthers) {

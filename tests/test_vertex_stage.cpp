@@ -192,4 +192,59 @@ TEST(VertexStage, SeveralDrawsAndGrowingFramesShareTheVertexMemory) {
   }
 }
 
+// One vertex of an interleaved buffer, as an engine lays it out: the fields the draw reads sit
+// between others it does not.
+struct Vertex {
+  float id;
+  glm::vec3 position;
+  float normal[3];
+  float u, v;
+};
+static_assert(sizeof(Vertex) % sizeof(float) == 0);
+
+// The grid read in place from an interleaved vertex buffer, with 16-bit indices, draws what
+// its packed copy with 32-bit indices draws, bit for bit, on every path; so does a clip-space
+// buffer of vec4 positions read with a stride.
+TEST(VertexStage, InterleavedBuffersAnd16BitIndicesDrawAsTheirPackedCopies) {
+  const Grid g = make_grid();
+  std::vector<Vertex> interleaved;
+  for (std::size_t i = 0; i < g.world.size(); ++i)
+    interleaved.push_back(
+        {float(i), g.world[i], {g.normals[i].x, g.normals[i].y, g.normals[i].z}, 0.25f, 0.75f});
+  const std::vector<std::uint16_t> indices16(g.indices.begin(), g.indices.end());
+  struct ClipVertex {
+    std::uint32_t tag;
+    glm::vec4 position;
+  };
+  std::vector<ClipVertex> clip;
+  for (const glm::vec4& p : g.clip) clip.push_back({7, p});
+
+  for (Kind kind : {Kind::kWorldTransformed, Kind::kShaded, Kind::kClipPerVertex}) {
+    const Draw packed = grid_draw(g, kind, g.indices);
+    Draw in_place = packed;
+    in_place.indices = indices16;
+    if (kind == Kind::kWorldTransformed) {
+      in_place.positions_xyz =
+          StridedSpan<glm::vec3>(&interleaved[0].position, interleaved.size(), sizeof(Vertex));
+    } else {
+      in_place.positions =
+          StridedSpan<glm::vec4>(&clip[0].position, clip.size(), sizeof(ClipVertex));
+    }
+    if (kind == Kind::kShaded) {
+      // The normals of every vertex, sizeof(Vertex) / 4 floats apart, read from the first one's.
+      in_place.attributes = std::span<const float>(
+          interleaved[0].normal, (interleaved.size() - 1) * (sizeof(Vertex) / 4) + 3);
+      in_place.attribute_stride = sizeof(Vertex) / sizeof(float);
+    }
+    const std::string what = "kind " + std::to_string(static_cast<int>(kind));
+    const test::Captured ref = render_with({packed}, {.isa = Isa::kReference});
+    expect_same(ref, render_with({in_place}, {.isa = Isa::kReference}), what + ", reference");
+    for (Isa isa : simd_isas()) {
+      const test::Captured got = render_with({in_place}, {.threads = 2, .isa = isa});
+      expect_same(ref, got, what + ", " + std::string(to_string(isa)));
+      expect_same_counts(ref.stats, got.stats, what);
+    }
+  }
+}
+
 }  // namespace

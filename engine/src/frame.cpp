@@ -42,13 +42,20 @@ namespace {
 
 // The attribute, varying and shader checks of validate_draw().
 void validate_shading(const Draw& draw, std::size_t vertices, const std::string& where) {
-  const std::size_t stride = draw.attribute_count;
-  // vertices * stride > size, without overflowing.
-  if (stride > 0 && vertices > 0 && (draw.attributes.size() / stride < vertices))
+  if (draw.attribute_stride != 0 && draw.attribute_stride < draw.attribute_count)
+    throw Error(Errc::kInvalidDraw, where + "attribute stride " +
+                                        std::to_string(draw.attribute_stride) +
+                                        " floats is less than the " +
+                                        std::to_string(draw.attribute_count) + " attributes");
+  const std::size_t row = attribute_row(draw), count = draw.attribute_count;
+  // (vertices - 1) * row + count > size, without overflowing.
+  if (count > 0 && vertices > 0 &&
+      (draw.attributes.size() < count || (draw.attributes.size() - count) / row < vertices - 1))
     throw Error(Errc::kInvalidDraw,
                 where + "attribute buffer too short: " + std::to_string(draw.attributes.size()) +
                     " floats for " + std::to_string(vertices) + " vertices of " +
-                    std::to_string(stride) + " attributes");
+                    std::to_string(count) + " attributes, " + std::to_string(row) +
+                    " floats apart");
   if (draw.varyings.empty()) {
     if (draw.shader && draw.shader.varyings_read() > 0)
       throw Error(Errc::kInvalidDraw, where + "the shader reads " +
@@ -82,6 +89,13 @@ void validate_draw(const Draw& draw, std::size_t d) {
   const std::size_t vertices = xyz ? draw.positions_xyz.size() : draw.positions.size();
   if (xyz && !draw.positions.empty())
     throw Error(Errc::kInvalidDraw, where + "give positions or positions_xyz, not both");
+  if (draw.positions.stride() < sizeof(glm::vec4) ||
+      draw.positions_xyz.stride() < sizeof(glm::vec3))
+    throw Error(Errc::kInvalidDraw,
+                where + "position stride " +
+                    std::to_string(xyz ? draw.positions_xyz.stride() : draw.positions.stride()) +
+                    " bytes is less than a position's " +
+                    std::to_string(xyz ? sizeof(glm::vec3) : sizeof(glm::vec4)));
   if (vertices > 0xffffffffu) throw Error(Errc::kInvalidDraw, where + "more than 2^32-1 vertices");
   if (!draw.indices.empty()) {
     if (draw.indices.size() % 3 != 0)

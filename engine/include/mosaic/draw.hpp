@@ -6,10 +6,14 @@
 // duration of the Renderer::render() call that uses them, and no longer.
 #pragma once
 
+#include <concepts>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <ranges>
 #include <span>
 
 #include "mosaic/shader.hpp"
@@ -37,11 +41,82 @@ struct DrawState {
   BlendMode blend = BlendMode::kNone;
 };
 
+/// A read-only view of size() elements of T, each stride() bytes after the one before: a whole
+/// array of T, or one field of an array of interleaved vertex structs, read in place. Elements
+/// are read by value (byte copies), so they need no alignment.
+template <class T>
+class StridedSpan {
+ public:
+  StridedSpan() = default;
+  /// Every element of a contiguous range of T: a std::vector, std::span, std::array or array.
+  template <std::ranges::contiguous_range R>
+  requires std::same_as<std::ranges::range_value_t<R>, T> StridedSpan(
+      const R& range)  // implicit, as std::span's is
+      : bytes_(reinterpret_cast<const std::byte*>(std::ranges::data(range))),
+        size_(std::ranges::size(range)),
+        stride_(sizeof(T)) {}
+  /// `count` elements, the first at `first`, each `stride_bytes` after the one before (at least
+  /// sizeof(T); Renderer::render() rejects less).
+  StridedSpan(const T* first, std::size_t count, std::size_t stride_bytes)
+      : bytes_(reinterpret_cast<const std::byte*>(first)), size_(count), stride_(stride_bytes) {}
+
+  T operator[](std::size_t i) const {
+    T v;
+    std::memcpy(&v, bytes_ + i * stride_, sizeof(T));
+    return v;
+  }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  std::size_t stride() const { return stride_; }  ///< bytes from one element to the next
+  /// Elements [offset, offset + count), which must lie within this view.
+  StridedSpan subspan(std::size_t offset, std::size_t count) const {
+    StridedSpan s = *this;
+    s.bytes_ += offset * stride_;
+    s.size_ = count;
+    return s;
+  }
+
+ private:
+  const std::byte* bytes_ = nullptr;
+  std::size_t size_ = 0;
+  std::size_t stride_ = sizeof(T);
+};
+
+/// A read-only view of a draw's index buffer, of 32-bit or 16-bit indices.
+class IndexSpan {
+ public:
+  IndexSpan() = default;
+  /// Every index of a contiguous range of std::uint32_t or std::uint16_t.
+  template <std::ranges::contiguous_range R>
+  requires std::same_as<std::ranges::range_value_t<R>, std::uint32_t> ||
+      std::same_as<std::ranges::range_value_t<R>, std::uint16_t>
+      IndexSpan(const R& range)  // implicit, as std::span's is
+      : size_(std::ranges::size(range)) {
+    if constexpr (std::same_as<std::ranges::range_value_t<R>, std::uint32_t>) {
+      wide_ = std::ranges::data(range);
+    } else {
+      narrow_ = std::ranges::data(range);
+    }
+  }
+
+  std::uint32_t operator[](std::size_t i) const { return wide_ ? wide_[i] : narrow_[i]; }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  bool is_16_bit() const { return narrow_ != nullptr; }
+
+ private:
+  const std::uint32_t* wide_ = nullptr;
+  const std::uint16_t* narrow_ = nullptr;
+  std::size_t size_ = 0;
+};
+
 /// A list of triangles.
 ///
 /// Positions come either as `positions` (xyzw in `space`), or as `positions_xyz` (object-space
 /// xyz with w = 1) multiplied by `transform` into `space` (in double precision). Triangles are
-/// `indices` taken three at a time, or vertices 0,1,2, 3,4,5, … when `indices` is empty.
+/// `indices` (32- or 16-bit) taken three at a time, or vertices 0,1,2, 3,4,5, … when `indices`
+/// is empty. An interleaved vertex buffer is read in place: positions through a StridedSpan of
+/// its position field, attributes with attribute_stride.
 ///
 /// The colour comes from `shader` when it is set (mosaic/shader.hpp), otherwise from
 /// `color_source`. A shader reads varyings: attributes of the vertices (`attributes`,
@@ -49,26 +124,31 @@ struct DrawState {
 /// the attributes listed in `varyings` are interpolated.
 ///
 /// Renderer::render() checks every draw before it draws any: counts that do not fit together
-/// (an attribute buffer too short for the vertices, a varying past attribute_count, more than
+/// (an attribute buffer too short for the vertices, an attribute stride below attribute_count,
+/// a position stride below the position's size, a varying past attribute_count, more than
 /// kMaxVaryings varyings, fewer than the shader reads, varyings without a shader) throw
 /// Error{kInvalidDraw}, an index past the last vertex Error{kIndexOutOfRange}.
 /// Triangles with a NaN or infinite coordinate after the transform are culled and counted in
 /// FrameStats::triangles_nonfinite; they never affect other triangles.
 struct Draw {
   Space space = Space::kClip;            ///< the space of `positions`, or of `transform`'s results
-  std::span<const glm::vec4> positions;  ///< xyzw in `space`; empty if positions_xyz is used
-  std::span<const glm::vec3> positions_xyz;  ///< used instead of `positions` when non-empty
-  glm::mat4 transform{1.0f};                 ///< applied to positions_xyz only
-  std::span<const std::uint32_t> indices;    ///< size a multiple of 3; every index < vertex count
+  StridedSpan<glm::vec4> positions;      ///< xyzw in `space`; empty if positions_xyz is used
+  StridedSpan<glm::vec3> positions_xyz;  ///< used instead of `positions` when non-empty
+  glm::mat4 transform{1.0f};             ///< applied to positions_xyz only
+  IndexSpan indices;                     ///< size a multiple of 3; every index < vertex count
 
   ColorSource color_source = ColorSource::kConstant;  ///< which of the two fields below is read
   Rgba8 color{255, 255, 255, 255};                    ///< for kConstant
   std::span<const Rgba8> colors;  ///< one per triangle (kPerTriangle) or per vertex (kPerVertex)
 
   /// Per-vertex float attributes, interleaved: attribute a of vertex v is
-  /// attributes[v * attribute_count + a]. At least vertex count × attribute_count floats.
+  /// attributes[v * attribute_stride + a] (attribute_count for a stride of 0). At least
+  /// (vertex count - 1) × stride + attribute_count floats.
   std::span<const float> attributes;
-  std::uint32_t attribute_count = 0;  ///< floats per vertex in `attributes`
+  std::uint32_t attribute_count = 0;  ///< floats per vertex that are attributes
+  /// Floats from one vertex's attributes to the next's: 0 (= attribute_count) or at least
+  /// attribute_count, e.g. sizeof(Vertex) / 4 for attributes inside an interleaved Vertex.
+  std::uint32_t attribute_stride = 0;
   /// The shader's inputs: varying k is attribute varyings[k]. At most kMaxVaryings, each below
   /// attribute_count, at least shader.varyings_read() of them; empty without a shader.
   std::span<const std::uint32_t> varyings;
@@ -78,5 +158,10 @@ struct Draw {
 
   DrawState state;  ///< depth test and write, culling, fill rule, blending
 };
+
+/// Floats from one vertex's attributes to the next's in `draw`.
+inline std::size_t attribute_row(const Draw& draw) {
+  return draw.attribute_stride ? draw.attribute_stride : draw.attribute_count;
+}
 
 }  // namespace mosaic

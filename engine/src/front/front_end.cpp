@@ -109,7 +109,7 @@ void TriangleFrontEnd::run(std::uint32_t t) {
   }
   if (nvary > 0) {
     for (int c = 0; c < 3; ++c) {
-      const std::size_t row = static_cast<std::size_t>(fetch.vertex(t, c)) * draw.attribute_count;
+      const std::size_t row = static_cast<std::size_t>(fetch.vertex(t, c)) * attribute_row(draw);
       for (int k = 0; k < nvary; ++k) corner_attr[c][k] = draw.attributes[row + draw.varyings[k]];
     }
     if (r == ClipResult::kInside) {

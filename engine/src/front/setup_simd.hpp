@@ -177,7 +177,7 @@ struct FrontEndSimd {
     const B ccw = load(r.ccw_lanes) != D(0.0);
     I row[3];
     for (int k = 0; k < 3; ++k)
-      row[k] = I::load_aligned(v.vertex[k]) * I(static_cast<std::int64_t>(draw.attribute_count));
+      row[k] = I::load_aligned(v.vertex[k]) * I(static_cast<std::int64_t>(attribute_row(draw)));
     const D Xs[3] = {load(r.xs[0]), load(r.xs[1]), load(r.xs[2])};
     const D Ys[3] = {load(r.ys[0]), load(r.ys[1]), load(r.ys[2])};
     const D area = load(r.area_px2);
@@ -206,8 +206,8 @@ struct FrontEndSimd {
         for (int k = 0; k < 3; ++k) {
           const std::uint32_t i = scalar.fetch.vertex(t, k);
           v.vertex[k][l] = i;
-          const glm::vec4& p = draw.positions[i];
-          v.X[k][l] = p.x;  // by value, GCC moved p through the stack
+          const glm::vec4 p = draw.positions[i];
+          v.X[k][l] = p.x;
           v.Y[k][l] = p.y;
           v.Z[k][l] = p.z;
           v.W[k][l] = p.w;
@@ -247,7 +247,7 @@ struct FrontEndSimd {
     v.nonfinite = 0;
     v.raw = false;
     v.cached = true;
-    const std::span<const std::uint32_t> indices = scalar.fetch.draw.indices;
+    const IndexSpan& indices = scalar.fetch.draw.indices;
     std::uint32_t slow = 0, outside = 0;
     for (int l = 0; l < N; ++l) {
       const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
@@ -324,7 +324,7 @@ struct FrontEndSimd {
       for (int l = 0; l < N; ++l) {
         const std::uint32_t i = i0 + static_cast<std::uint32_t>(l < n ? l : 0);
         if (raw) {
-          const glm::vec4& p = draw.positions[i];
+          const glm::vec4 p = draw.positions[i];
           X[l] = p.x;
           Y[l] = p.y;
           Z[l] = p.z;
