@@ -33,10 +33,10 @@ jobs=${MOSAIC_JOBS:-2}
 # The multithreaded tests: every test that renders with more than one worker thread or compares
 # thread counts (the fast path against the reference, z-fighting across 1/2/7 threads, shaders,
 # occlusion queries, the stress tool, the soak, a renderer entered from two threads, the hard
-# cases), and the seeded race.
+# cases, the vertex stage's blocks), and the seeded race.
 tsan_targets="test_fast_path test_hard_depth test_hard_watertight test_hard_nonfinite test_stress
-  test_shaders test_occlusion test_soak test_api_errors tsan_seeded_race mosaic_cli"
-tsan_tests='^(FastPath|HardDepth|HardWatertight|HardNonFinite|Stress[A-Za-z]*|Shader[A-Za-z]*|Occlusion[A-Za-z]*|Soak|ApiErrors|TsanSeededRace)\.'
+  test_shaders test_occlusion test_soak test_api_errors test_vertex_stage tsan_seeded_race mosaic_cli"
+tsan_tests='^(FastPath|HardDepth|HardWatertight|HardNonFinite|Stress[A-Za-z]*|Shader[A-Za-z]*|Occlusion[A-Za-z]*|Soak|ApiErrors|VertexStage|TsanSeededRace)\.'
 
 start=$(date +%s)
 cmake --preset asan-ubsan >/dev/null
