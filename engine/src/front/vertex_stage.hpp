@@ -71,7 +71,8 @@ class VertexRecords {
   /// reserve(n), with every page of the memory written, so that no frame faults them in.
   void reserve_touched(std::size_t n) {
     reserve(n);
-    std::memset(static_cast<void*>(data_.get()), 0, capacity_ * sizeof(ProjectedVertex));
+    if (capacity_ > 0)  // (memset of a null pointer is undefined, even of no bytes)
+      std::memset(static_cast<void*>(data_.get()), 0, capacity_ * sizeof(ProjectedVertex));
   }
   ProjectedVertex* data() { return data_.get(); }
 
