@@ -566,7 +566,7 @@ struct FrontEndSimd {
     // flag of simd/CMakeLists.txt that removes the same wait inside setup(), ms_setup on
     // random-small (1 thread) went from 6.6 to 6.0 ms on AVX2, 5.2 to 5.1 ms on AVX-512.
     Vertices vertices[2];
-    Results r{};
+    Results r;  // every field a batch reads is written by that batch first
     const auto batch_size = [&](std::uint32_t t0) {
       return static_cast<int>(std::min<std::uint32_t>(N, end - t0));
     };
