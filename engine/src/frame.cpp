@@ -199,6 +199,7 @@ struct Renderer::Impl {
   std::atomic<bool> busy{false};  // a render() is running: a second one is misuse
 
   FrameStats render_fast(const Frame& frame, RenderTarget& target);
+  std::span<const front::VertexCache> project_vertices(const Frame& frame, int W, int H);
   FrameStats render_reference(const Frame& frame, RenderTarget& target);
   void reserve(const FrameReserve& r);
 };
@@ -378,35 +379,11 @@ FrameStats Renderer::Impl::render_reference(const Frame& frame, RenderTarget& ta
   return stats;
 }
 
-FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target) {
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
-  FrameStats stats;
-  stats.isa = isa;
-  stats.threads = threads;
-  const int W = target.width(), H = target.height(), S = target.samples();
-  const int tile_size = options.tile_size ? options.tile_size : raster::tile_size_for(S);
-  stats.tile_size = tile_size;
-  const bin::TileGrid grid(W, H, tile_size);
-
-  // Draw state per draw; the painter's algorithm turns the depth test off everywhere. The
-  // buffers the frame uses: colour if a draw writes it (or the target keeps it per sample),
-  // depth if a draw tests or writes it.
-  states.clear();
-  bool any_color = false, any_depth = false;
-  for (const Draw& d : frame.draws) {
-    DrawState s = d.state;
-    if (frame.painter) {
-      s.depth_test = DepthTest::kAlways;
-      s.depth_write = false;
-    }
-    any_color |= s.color_write;
-    any_depth |= s.depth_test != DepthTest::kAlways || s.depth_write;
-    states.push_back(s);
-  }
-
-  // Stage 1: the vertex stage, in parallel over blocks of vertices of the draws that want it. The
-  // painter's path sets the frame up with the scalar front end, which reads no cache.
+// The vertex stage, in parallel over blocks of vertices of the draws that want it: one cache per
+// draw, empty for the others. The painter's path sets the frame up with the scalar front end,
+// which reads no cache.
+std::span<const front::VertexCache> Renderer::Impl::project_vertices(const Frame& frame, int W,
+                                                                     int H) {
   vertex_caches.assign(frame.draws.size(), {});
   vertex_blocks.clear();
   std::size_t records = 0;
@@ -439,7 +416,38 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     }));
     vertex_edges.join();
   }
-  const std::span<const front::VertexCache> caches(vertex_caches.data(), frame.draws.size());
+  return {vertex_caches.data(), frame.draws.size()};
+}
+
+FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  FrameStats stats;
+  stats.isa = isa;
+  stats.threads = threads;
+  const int W = target.width(), H = target.height(), S = target.samples();
+  const int tile_size = options.tile_size ? options.tile_size : raster::tile_size_for(S);
+  stats.tile_size = tile_size;
+  const bin::TileGrid grid(W, H, tile_size);
+
+  // Draw state per draw; the painter's algorithm turns the depth test off everywhere. The
+  // buffers the frame uses: colour if a draw writes it (or the target keeps it per sample),
+  // depth if a draw tests or writes it.
+  states.clear();
+  bool any_color = false, any_depth = false;
+  for (const Draw& d : frame.draws) {
+    DrawState s = d.state;
+    if (frame.painter) {
+      s.depth_test = DepthTest::kAlways;
+      s.depth_write = false;
+    }
+    any_color |= s.color_write;
+    any_depth |= s.depth_test != DepthTest::kAlways || s.depth_write;
+    states.push_back(s);
+  }
+
+  // Stage 1: the vertex stage.
+  const std::span<const front::VertexCache> caches = project_vertices(frame, W, H);
 
   // Stages 2 and 3: front end and binning, in parallel over chunks of triangles. Each chunk is
   // binned into its own tile table right after it is set up, while its setups (256 bytes a
