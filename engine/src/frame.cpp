@@ -86,7 +86,7 @@ void validate_shading(const Draw& draw, std::size_t vertices, const std::string&
 void validate_draw(const Draw& draw, std::size_t d) {
   const std::string where = "draw " + std::to_string(d) + ": ";
   const bool xyz = !draw.positions_xyz.empty();
-  const std::size_t vertices = xyz ? draw.positions_xyz.size() : draw.positions.size();
+  const std::size_t vertices = front::vertex_count(draw);
   if (xyz && !draw.positions.empty())
     throw Error(Errc::kInvalidDraw, where + "give positions or positions_xyz, not both");
   if (draw.positions.stride() < sizeof(glm::vec4) ||

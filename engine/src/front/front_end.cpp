@@ -29,9 +29,7 @@ void FrontStats::add_to(FrameStats& s) const {
 
 std::uint32_t triangle_count(const Draw& draw) {
   if (!draw.indices.empty()) return static_cast<std::uint32_t>(draw.indices.size() / 3);
-  const std::size_t n =
-      draw.positions_xyz.empty() ? draw.positions.size() : draw.positions_xyz.size();
-  return static_cast<std::uint32_t>(n / 3);
+  return static_cast<std::uint32_t>(vertex_count(draw) / 3);
 }
 
 namespace {
