@@ -12,6 +12,7 @@
 #include <limits>
 #include <numeric>
 
+#include "front/draw_area.hpp"
 #include "front/setup.hpp"
 #include "reference_test_util.hpp"
 
@@ -80,7 +81,8 @@ TEST(FrontSetup, HandWorkedFillRuleCases) {
         const std::array<front::ScreenVertex, 3> v =
             reversed ? std::array{sv(tri[0]), sv(tri[2]), sv(tri[1])}
                      : std::array{sv(tri[0]), sv(tri[1]), sv(tri[2])};
-        ASSERT_EQ(front::setup_triangle(v, rule_state(rule), 16, 16, false, {}, t),
+        ASSERT_EQ(front::setup_triangle(v, rule_state(rule), front::DrawArea::whole(16, 16), false,
+                                        {}, t),
                   front::SetupReject::kNone);
         for (const Point& p : points) {
           const bool expect = rule == FillRule::kD3D ? p.d3d : p.gl;
@@ -109,8 +111,8 @@ TEST(FrontSetup, EdgeFunctionsMatchTheOracleOnACoarseGrid) {
             reversed ? std::array{sv(tri[0]), sv(tri[2]), sv(tri[1])}
                      : std::array{sv(tri[0]), sv(tri[1]), sv(tri[2])};
         front::TriangleSetup t;
-        const front::SetupReject r =
-            front::setup_triangle(v, rule_state(rule), 16, 16, false, {}, t);
+        const front::SetupReject r = front::setup_triangle(
+            v, rule_state(rule), front::DrawArea::whole(16, 16), false, {}, t);
         const std::int64_t area2 = (tri[1].x - tri[0].x) * (tri[2].y - tri[0].y) -
                                    (tri[2].x - tri[0].x) * (tri[1].y - tri[0].y);
         if (area2 == 0) {
@@ -148,8 +150,8 @@ TEST(FrontSetup, BoundingBoxHoldsEveryCoveredSampleAndStaysInTheTarget) {
     std::array<Fx, 3> tri;
     for (Fx& p : tri) p = {rng.range(-5 * 256, 17 * 256), rng.range(-5 * 256, 15 * 256)};
     front::TriangleSetup t;
-    const front::SetupReject r =
-        front::setup_triangle({sv(tri[0]), sv(tri[1]), sv(tri[2])}, {}, kW, kH, false, {}, t);
+    const front::SetupReject r = front::setup_triangle(
+        {sv(tri[0]), sv(tri[1]), sv(tri[2])}, {}, front::DrawArea::whole(kW, kH), false, {}, t);
     if (r != front::SetupReject::kNone) continue;
     EXPECT_LE(0, t.bx0);
     EXPECT_LE(0, t.by0);
@@ -188,9 +190,9 @@ TEST(FrontSetup, FaceCullingByScreenWinding) {
     s.front_face = c.front;
     s.cull = c.cull;
     front::TriangleSetup t;
-    EXPECT_EQ(front::setup_triangle(ccw, s, 64, 64, false, {}, t),
+    EXPECT_EQ(front::setup_triangle(ccw, s, front::DrawArea::whole(64, 64), false, {}, t),
               c.ccw_kept ? front::SetupReject::kNone : front::SetupReject::kFace);
-    EXPECT_EQ(front::setup_triangle(cw, s, 64, 64, false, {}, t),
+    EXPECT_EQ(front::setup_triangle(cw, s, front::DrawArea::whole(64, 64), false, {}, t),
               c.cw_kept ? front::SetupReject::kNone : front::SetupReject::kFace);
   }
 }
@@ -198,25 +200,33 @@ TEST(FrontSetup, FaceCullingByScreenWinding) {
 TEST(FrontSetup, DegenerateAfterSnappingAndOutside) {
   front::TriangleSetup t;
   // Collinear.
-  EXPECT_EQ(front::setup_triangle({sv(1, 1), sv(5, 5), sv(9, 9)}, {}, 16, 16, false, {}, t),
+  EXPECT_EQ(front::setup_triangle({sv(1, 1), sv(5, 5), sv(9, 9)}, {},
+                                  front::DrawArea::whole(16, 16), false, {}, t),
             front::SetupReject::kDegenerate);
   // Two vertices 0.001 px apart snap to the same point.
-  EXPECT_EQ(front::setup_triangle({sv(3, 3), sv(3.001, 3), sv(9, 12)}, {}, 16, 16, false, {}, t),
+  EXPECT_EQ(front::setup_triangle({sv(3, 3), sv(3.001, 3), sv(9, 12)}, {},
+                                  front::DrawArea::whole(16, 16), false, {}, t),
             front::SetupReject::kDegenerate);
   // Collinear only after snapping: 2.001 -> 2 (0.256 units round down).
-  EXPECT_EQ(front::setup_triangle({sv(0, 0), sv(1, 1), sv(2, 2.001)}, {}, 16, 16, false, {}, t),
+  EXPECT_EQ(front::setup_triangle({sv(0, 0), sv(1, 1), sv(2, 2.001)}, {},
+                                  front::DrawArea::whole(16, 16), false, {}, t),
             front::SetupReject::kDegenerate);
   // ... but 2.003 (0.768 units) rounds up and leaves a sliver.
-  EXPECT_EQ(front::setup_triangle({sv(0, 0), sv(1, 1), sv(2, 2.003)}, {}, 16, 16, false, {}, t),
+  EXPECT_EQ(front::setup_triangle({sv(0, 0), sv(1, 1), sv(2, 2.003)}, {},
+                                  front::DrawArea::whole(16, 16), false, {}, t),
             front::SetupReject::kNone);
   // Entirely left of, right of, above and below a 16x16 target.
-  EXPECT_EQ(front::setup_triangle({sv(-9, 1), sv(-1, 5), sv(-4, 9)}, {}, 16, 16, false, {}, t),
+  EXPECT_EQ(front::setup_triangle({sv(-9, 1), sv(-1, 5), sv(-4, 9)}, {},
+                                  front::DrawArea::whole(16, 16), false, {}, t),
             front::SetupReject::kOutside);
-  EXPECT_EQ(front::setup_triangle({sv(16.5, 1), sv(20, 5), sv(18, 9)}, {}, 16, 16, false, {}, t),
+  EXPECT_EQ(front::setup_triangle({sv(16.5, 1), sv(20, 5), sv(18, 9)}, {},
+                                  front::DrawArea::whole(16, 16), false, {}, t),
             front::SetupReject::kOutside);
-  EXPECT_EQ(front::setup_triangle({sv(1, -9), sv(5, -1), sv(9, -4)}, {}, 16, 16, false, {}, t),
+  EXPECT_EQ(front::setup_triangle({sv(1, -9), sv(5, -1), sv(9, -4)}, {},
+                                  front::DrawArea::whole(16, 16), false, {}, t),
             front::SetupReject::kOutside);
-  EXPECT_EQ(front::setup_triangle({sv(1, 17), sv(5, 20), sv(9, 18)}, {}, 16, 16, false, {}, t),
+  EXPECT_EQ(front::setup_triangle({sv(1, 17), sv(5, 20), sv(9, 18)}, {},
+                                  front::DrawArea::whole(16, 16), false, {}, t),
             front::SetupReject::kOutside);
 }
 
@@ -246,7 +256,8 @@ TEST(FrontSetup, DepthPlaneGoesThroughTheSnappedVertices) {
     const std::array<front::ScreenVertex, 3> v{sv(raw[0].x, raw[0].y, static_cast<float>(z[0])),
                                                sv(raw[1].x, raw[1].y, static_cast<float>(z[1])),
                                                sv(raw[2].x, raw[2].y, static_cast<float>(z[2]))};
-    ASSERT_EQ(front::setup_triangle(v, {}, 64, 64, false, {}, t), front::SetupReject::kNone);
+    ASSERT_EQ(front::setup_triangle(v, {}, front::DrawArea::whole(64, 64), false, {}, t),
+              front::SetupReject::kNone);
     const double zmin = std::min({z[0], z[1], z[2]}), zmax = std::max({z[0], z[1], z[2]});
     EXPECT_EQ(t.z_min, static_cast<float>(zmin));
     EXPECT_EQ(t.z_max, static_cast<float>(zmax));
@@ -271,8 +282,8 @@ TEST(FrontSetup, DepthPlaneGoesThroughTheSnappedVertices) {
 
 TEST(FrontSetup, DepthIsClampedToTheVertexRange) {
   front::TriangleSetup t;
-  ASSERT_EQ(front::setup_triangle({sv(0, 0, 0.25f), sv(8, 0, 0.5f), sv(0, 8, 0.75f)}, {}, 16, 16,
-                                  false, {}, t),
+  ASSERT_EQ(front::setup_triangle({sv(0, 0, 0.25f), sv(8, 0, 0.5f), sv(0, 8, 0.75f)}, {},
+                                  front::DrawArea::whole(16, 16), false, {}, t),
             front::SetupReject::kNone);
   // Far beyond each side the plane leaves [0.25, 0.75]; the depth stops at the nearest bound.
   EXPECT_EQ(front::sample_depth(t, -100, -100), 0.25f);

@@ -81,6 +81,30 @@ void validate_shading(const Draw& draw, std::size_t vertices, const std::string&
                                           " attributes per vertex");
 }
 
+// The viewport and scissor checks of validate_draw(): whole pixels within ±kMaxTargetSize, which
+// keeps every moved coordinate inside the 16.8 format (front/draw_area.hpp).
+void validate_area(const DrawState& state, const std::string& where) {
+  const auto text = [](const PixelRect& r) {
+    return "(" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.width) +
+           " x " + std::to_string(r.height) + ")";
+  };
+  const auto within = [](int v, int lo) { return v >= lo && v <= kMaxTargetSize; };
+  if (const auto& v = state.viewport) {
+    if (!within(v->x, -kMaxTargetSize) || !within(v->y, -kMaxTargetSize) || !within(v->width, 1) ||
+        !within(v->height, 1))
+      throw Error(Errc::kInvalidDraw, where + "viewport " + text(*v) +
+                                          ": x and y must lie within ±16384, width and height "
+                                          "within 1..16384");
+  }
+  if (const auto& s = state.scissor) {
+    if (!within(s->x, -kMaxTargetSize) || !within(s->y, -kMaxTargetSize) || !within(s->width, 0) ||
+        !within(s->height, 0))
+      throw Error(Errc::kInvalidDraw, where + "scissor " + text(*s) +
+                                          ": x and y must lie within ±16384, width and height "
+                                          "within 0..16384");
+  }
+}
+
 }  // namespace
 
 void validate_draw(const Draw& draw, std::size_t d) {
@@ -113,6 +137,7 @@ void validate_draw(const Draw& draw, std::size_t d) {
                                         " is not a multiple of 3 and there is no index buffer");
   }
   validate_shading(draw, vertices, where);
+  validate_area(draw.state, where);
   const std::size_t tris = front::triangle_count(draw);
   if (draw.color_source == ColorSource::kPerTriangle && draw.colors.size() != tris)
     throw Error(Errc::kInvalidDraw, where + std::to_string(draw.colors.size()) + " colours for " +

@@ -13,6 +13,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <optional>
 #include <ranges>
 #include <span>
 
@@ -39,6 +40,17 @@ struct DrawState {
   /// How the colour combines with what the samples hold: replace, or source-over alpha in draw
   /// order (per sample, after the depth test; depth is written as without blending).
   BlendMode blend = BlendMode::kNone;
+  /// Where the draw lands in the target: NDC [-1, 1]² maps to these pixels, and Space::kScreen
+  /// coordinates count from its top-left corner. Nothing outside it is drawn, so a draw through
+  /// a viewport equals the same draw into a target of the viewport's size, placed at (x, y).
+  /// Unset, it is the whole target. Whole pixels: width and height 1 to kMaxTargetSize, x and y
+  /// within ±kMaxTargetSize (it may reach past the target; that part is not drawn). Depth maps
+  /// to [0, 1] as without a viewport.
+  std::optional<PixelRect> viewport = std::nullopt;
+  /// Coverage is clipped to these pixels, and the binner skips tiles outside them. Unset, there
+  /// is no scissor. It may reach past the target (that part clips nothing) or be empty (the
+  /// draw draws nothing); x, y, width and height within ±kMaxTargetSize, width and height >= 0.
+  std::optional<PixelRect> scissor = std::nullopt;
 };
 
 /// A read-only view of size() elements of T, each stride() bytes after the one before: a whole
@@ -126,7 +138,8 @@ class IndexSpan {
 /// Renderer::render() checks every draw before it draws any: counts that do not fit together
 /// (an attribute buffer too short for the vertices, an attribute stride below attribute_count,
 /// a position stride below the position's size, a varying past attribute_count, more than
-/// kMaxVaryings varyings, fewer than the shader reads, varyings without a shader) throw
+/// kMaxVaryings varyings, fewer than the shader reads, varyings without a shader, a viewport or
+/// scissor out of DrawState's bounds) throw
 /// Error{kInvalidDraw}, an index past the last vertex Error{kIndexOutOfRange}.
 /// Triangles with a NaN or infinite coordinate after the transform are culled and counted in
 /// FrameStats::triangles_nonfinite; they never affect other triangles.

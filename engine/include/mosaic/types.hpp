@@ -19,6 +19,13 @@ struct Rgba8 {
   friend bool operator==(const Rgba8&, const Rgba8&) = default;
 };
 
+/// A rectangle of whole pixels, [x, x + width) × [y, y + height): y down, origin top-left.
+struct PixelRect {
+  int x = 0, y = 0;           ///< its top-left pixel
+  int width = 0, height = 0;  ///< its size in pixels
+  friend bool operator==(const PixelRect&, const PixelRect&) = default;
+};
+
 /// What a frame's samples hold before its first triangle (Frame::color_load, depth_load).
 enum class LoadOp : std::uint8_t {
   kClear,  ///< the target's clear value (RenderTarget::set_clear())

@@ -52,7 +52,8 @@ bool divide(const ClipVertex& c, ScreenVertex& s) {
 TriangleFrontEnd::TriangleFrontEnd(const Draw& draw, std::uint32_t draw_index, int width,
                                    int height, std::vector<TriangleSetup>& out, FrontStats& stats,
                                    std::vector<Plane>* planes, int samples)
-    : fetch(draw, width, height),
+    : area(DrawArea::of(draw.state, width, height)),
+      fetch(draw, area.width, area.height),
       shader(static_cast<bool>(draw.shader)),
       // A shader colours the draw: vertex colours are not set up.
       per_vertex(!shader && draw.color_source == ColorSource::kPerVertex),
@@ -60,15 +61,12 @@ TriangleFrontEnd::TriangleFrontEnd(const Draw& draw, std::uint32_t draw_index, i
       spots(SampleSpots::of(samples)),
       draw_(draw),
       draw_index_(draw_index),
-      width_(width),
-      height_(height),
       out_(out),
       stats_(stats),
       planes_(planes) {}
 
 void TriangleFrontEnd::run(std::uint32_t t) {
   const Draw& draw = draw_;
-  const int width = width_, height = height_;
   FrontStats& stats = stats_;
   ClipPolygon& poly = poly_;
   auto& sv = sv_;
@@ -88,7 +86,7 @@ void TriangleFrontEnd::run(std::uint32_t t) {
   Rgba8 flat = draw.color;
   if (draw.color_source == ColorSource::kPerTriangle) flat = draw.colors[t];
 
-  const ClipResult r = clip_triangle(cv, width, height, poly);
+  const ClipResult r = clip_triangle(cv, area.width, area.height, poly);
   if (r == ClipResult::kCulled) {
     ++stats.outside;
     return;
@@ -132,7 +130,7 @@ void TriangleFrontEnd::run(std::uint32_t t) {
     PlaneBasis basis;
     const std::array<ScreenVertex, 3> tri{sv[0], sv[k], sv[k + 1]};
     const SetupReject why =
-        setup_triangle(tri, draw.state, width, height, per_vertex, flat, ts, planes_,
+        setup_triangle(tri, draw.state, area, per_vertex, flat, ts, planes_,
                        nvary > 0 || sort_keys ? &basis : nullptr, spots.count ? &spots : nullptr);
     any_face = any_face || why == SetupReject::kFace;
     any_outside = any_outside || why == SetupReject::kOutside;

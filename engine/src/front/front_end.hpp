@@ -14,6 +14,7 @@
 #include <glm/vec4.hpp>
 #include <vector>
 
+#include "front/draw_area.hpp"
 #include "front/setup.hpp"
 #include "front/vertex_stage.hpp"
 #include "mosaic/draw.hpp"
@@ -111,6 +112,7 @@ struct VertexFetch {
 /// triangle that needs clipping, a non-finite one, ...).
 class TriangleFrontEnd {
  public:
+  /// For a width × height target; the draw's viewport and scissor give its DrawArea.
   TriangleFrontEnd(const Draw& draw, std::uint32_t draw_index, int width, int height,
                    std::vector<TriangleSetup>& out, FrontStats& stats, std::vector<Plane>* planes,
                    int samples = 0);
@@ -118,6 +120,7 @@ class TriangleFrontEnd {
   /// Runs triangle `t` of the draw: appends its setups to `out`, counts it in `stats`.
   void run(std::uint32_t t);
 
+  const DrawArea area;  ///< where the draw lands: set up in its viewport, moved into the target
   const VertexFetch fetch;
   const bool shader;        ///< the draw has a shader
   const bool per_vertex;    ///< vertex colours are set up (a shader colours the draw itself)
@@ -130,7 +133,6 @@ class TriangleFrontEnd {
  private:
   const Draw& draw_;
   std::uint32_t draw_index_;
-  int width_, height_;
   std::vector<TriangleSetup>& out_;
   FrontStats& stats_;
   std::vector<Plane>* planes_;

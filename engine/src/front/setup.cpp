@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "front/draw_area.hpp"
+
 namespace mosaic::front {
 namespace {
 
@@ -55,9 +57,9 @@ Rgba8 shade(const TriangleSetup& t, const Plane* planes, float x, float y) {
   return {c[0], c[1], c[2], c[3]};
 }
 
-SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state, int width,
-                           int height, bool per_vertex_color, Rgba8 flat_color, TriangleSetup& out,
-                           std::vector<Plane>* planes, PlaneBasis* basis,
+SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state,
+                           const DrawArea& area, bool per_vertex_color, Rgba8 flat_color,
+                           TriangleSetup& out, std::vector<Plane>* planes, PlaneBasis* basis,
                            const SampleSpots* spots) {
   std::array<FixedPoint, 3> p;
   for (int i = 0; i < 3; ++i) p[i] = {snap(v[i].x), snap(v[i].y)};
@@ -99,10 +101,10 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
   // pixels that can hold a covered sample are floor(min / 256) .. floor(max / 256).
   const auto [minx, maxx] = std::minmax({p[0].x, p[1].x, p[2].x});
   const auto [miny, maxy] = std::minmax({p[0].y, p[1].y, p[2].y});
-  out.bx0 = std::max(0, minx >> kSubpixelBits);
-  out.by0 = std::max(0, miny >> kSubpixelBits);
-  out.bx1 = std::min(width, (maxx >> kSubpixelBits) + 1);
-  out.by1 = std::min(height, (maxy >> kSubpixelBits) + 1);
+  out.bx0 = std::max(area.x0, minx >> kSubpixelBits);
+  out.by0 = std::max(area.y0, miny >> kSubpixelBits);
+  out.bx1 = std::min(area.x1, (maxx >> kSubpixelBits) + 1);
+  out.by1 = std::min(area.y1, (maxy >> kSubpixelBits) + 1);
   if (out.bx0 >= out.bx1 || out.by0 >= out.by1) return SetupReject::kOutside;
   if (spots &&
       !box_holds_sample(*spots, minx, maxx, miny, maxy, out.bx0, out.bx1, out.by0, out.by1))
@@ -144,6 +146,7 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
                    to_unorm8(static_cast<float>(c0[2])), to_unorm8(static_cast<float>(c0[3]))};
     }
   }
+  if (area.moved()) area.move(out);
   return SetupReject::kNone;
 }
 

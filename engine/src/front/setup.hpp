@@ -170,17 +170,20 @@ inline bool box_holds_sample(const SampleSpots& sp, std::int32_t minx, std::int3
 /// anything beyond (only rounding on extreme input) is clamped to it. x must not be NaN.
 std::int32_t snap(double px);
 
-/// Snaps and sets up a triangle for a width × height target.
+struct DrawArea;  // front/draw_area.hpp
+
+/// Snaps and sets up a triangle in `area`'s viewport pixels, keeps its box to the area's clip
+/// rectangle, and moves it into the target's pixels.
 /// `flat_color` is used when `per_vertex_color` is false. Differing vertex colours append
 /// kColorPlanes planes to `planes`; without `planes` (callers that use only coverage and depth)
 /// none are set up, and the triangle gets its first vertex's colour, as one whose planes overflow
 /// float does. `basis`, when given, receives the corners the planes were built on (for
 /// setup_varyings() and sort_depth()). With `spots`, a triangle whose box holds none of them is
 /// rejected (kNoSample) before its planes are built.
-SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state, int width,
-                           int height, bool per_vertex_color, Rgba8 flat_color, TriangleSetup& out,
-                           std::vector<Plane>* planes = nullptr, PlaneBasis* basis = nullptr,
-                           const SampleSpots* spots = nullptr);
+SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state,
+                           const DrawArea& area, bool per_vertex_color, Rgba8 flat_color,
+                           TriangleSetup& out, std::vector<Plane>* planes = nullptr,
+                           PlaneBasis* basis = nullptr, const SampleSpots* spots = nullptr);
 
 /// The painter's algorithm's key of a set-up triangle: its mean vertex depth, summed in the
 /// oriented order. Not stored in TriangleSetup: only the painter's path needs it.

@@ -313,9 +313,11 @@ struct FrontEndSimd {
   static void project_vertices(const Draw& draw, int width, int height, std::uint32_t begin,
                                std::uint32_t end, const VertexCache& cache) {
     namespace vc = vertex_code;
-    const VertexFetch fetch(draw, width, height);
+    // Projected into the draw's viewport, whose pixels setup works in (front/draw_area.hpp).
+    const DrawArea area = DrawArea::of(draw.state, width, height);
+    const VertexFetch fetch(draw, area.width, area.height);
     const bool raw = draw.positions_xyz.empty();
-    const D w(static_cast<double>(width)), h(static_cast<double>(height));
+    const D w(static_cast<double>(area.width)), h(static_cast<double>(area.height));
     alignas(64) double X[N], Y[N], Z[N], W[N];
     alignas(64) double px[N], py[N], z[N], q[N], codes[N];
     for (std::uint32_t i0 = begin; i0 < end; i0 += N) {
@@ -368,9 +370,9 @@ struct FrontEndSimd {
 
   /// clip_triangle()'s classification, the perspective divide and setup_triangle(), in lanes; a
   /// cached v brings its corners already projected.
-  static void setup(const Vertices& v, const VertexFetch& fetch, int width, int height, bool shaded,
+  static void setup(const Vertices& v, const VertexFetch& fetch, const DrawArea& area, bool shaded,
                     const SampleSpots& spots, Results& r) {
-    const D w(static_cast<double>(width)), h(static_cast<double>(height));
+    const D w(static_cast<double>(area.width)), h(static_cast<double>(area.height));
     D px[3], py[3], z[3], q[3];
     std::uint32_t scalar, clip_culled;
     if (v.cached) {
@@ -401,13 +403,13 @@ struct FrontEndSimd {
       scalar = nonfinite | M::bits(!culled && (p[0].clip || p[1].clip || p[2].clip));
       clip_culled = M::bits(culled);
     }
-    set_up(px, py, z, q, scalar, clip_culled, fetch.draw.state, w, h, shaded, spots, r);
+    set_up(px, py, z, q, scalar, clip_culled, fetch.draw.state, area, shaded, spots, r);
   }
 
   /// setup_triangle() in lanes from the corners' projections, for lanes not in `scalar`.
   static void set_up(const D (&px)[3], const D (&py)[3], const D (&z)[3], const D (&q)[3],
-                     std::uint32_t scalar, std::uint32_t clip_culled, const DrawState& state, D w,
-                     D h, bool shaded, const SampleSpots& spots, Results& r) {
+                     std::uint32_t scalar, std::uint32_t clip_culled, const DrawState& state,
+                     const DrawArea& area, bool shaded, const SampleSpots& spots, Results& r) {
     const D area2 = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]);
     const B degenerate = area2 == D(0.0);
     const B ccw = area2 < D(0.0);
@@ -420,25 +422,28 @@ struct FrontEndSimd {
     constexpr double kPxPerUnit = 1.0 / kSubpixelOne;
     const D minx = min3(px[0], px[1], px[2]), maxx = max3(px[0], px[1], px[2]);
     const D miny = min3(py[0], py[1], py[2]), maxy = max3(py[0], py[1], py[2]);
-    const D bx0 = xsimd::max(D(0.0), xsimd::floor(minx * D(kPxPerUnit)));
-    const D by0 = xsimd::max(D(0.0), xsimd::floor(miny * D(kPxPerUnit)));
-    const D bx1 = xsimd::min(w, xsimd::floor(maxx * D(kPxPerUnit)) + D(1.0));
-    const D by1 = xsimd::min(h, xsimd::floor(maxy * D(kPxPerUnit)) + D(1.0));
+    // Kept to the area's clip rectangle [cx0, cx1) × [cy0, cy1), in the viewport's pixels.
+    const D cx0(static_cast<double>(area.x0)), cy0(static_cast<double>(area.y0));
+    const D cx1(static_cast<double>(area.x1)), cy1(static_cast<double>(area.y1));
+    const D bx0 = xsimd::max(cx0, xsimd::floor(minx * D(kPxPerUnit)));
+    const D by0 = xsimd::max(cy0, xsimd::floor(miny * D(kPxPerUnit)));
+    const D bx1 = xsimd::min(cx1, xsimd::floor(maxx * D(kPxPerUnit)) + D(1.0));
+    const D by1 = xsimd::min(cy1, xsimd::floor(maxy * D(kPxPerUnit)) + D(1.0));
     const B box_empty = bx0 >= bx1 || by0 >= by1;
     // box_holds_sample() of setup.hpp in lanes (the divisions by 256 are exact). A box at least
-    // a pixel wide and tall that the target does not cut holds every sample position: when all
-    // lanes' boxes are such, the answer is known without the loop (the same answer).
+    // a pixel wide and tall that the clip rectangle does not cut holds every sample position:
+    // when all lanes' boxes are such, the answer is known without the loop (the same answer).
     const D kUnit(kSubpixelOne);
-    const B whole = maxx - minx >= kUnit && maxy - miny >= kUnit && minx >= D(0.0) &&
-                    miny >= D(0.0) && maxx < w * kUnit && maxy < h * kUnit;
+    const B whole = maxx - minx >= kUnit && maxy - miny >= kUnit && minx >= cx0 * kUnit &&
+                    miny >= cy0 * kUnit && maxx < cx1 * kUnit && maxy < cy1 * kUnit;
     B holds(spots.count == 0 || M::bits(whole) == kAllLanes);
     for (int s = 0; s < spots.count && M::bits(holds) != kAllLanes; ++s) {
       const D sx(static_cast<double>(spots.x[s])), sy(static_cast<double>(spots.y[s]));
-      const D cx0 = xsimd::max(bx0, xsimd::ceil((minx - sx) * D(kPxPerUnit)));
-      const D cx1 = xsimd::min(bx1 - D(1.0), xsimd::floor((maxx - sx) * D(kPxPerUnit)));
-      const D cy0 = xsimd::max(by0, xsimd::ceil((miny - sy) * D(kPxPerUnit)));
-      const D cy1 = xsimd::min(by1 - D(1.0), xsimd::floor((maxy - sy) * D(kPxPerUnit)));
-      holds = holds || (cx0 <= cx1 && cy0 <= cy1);
+      const D sx0 = xsimd::max(bx0, xsimd::ceil((minx - sx) * D(kPxPerUnit)));
+      const D sx1 = xsimd::min(bx1 - D(1.0), xsimd::floor((maxx - sx) * D(kPxPerUnit)));
+      const D sy0 = xsimd::max(by0, xsimd::ceil((miny - sy) * D(kPxPerUnit)));
+      const D sy1 = xsimd::min(by1 - D(1.0), xsimd::floor((maxy - sy) * D(kPxPerUnit)));
+      holds = holds || (sx0 <= sx1 && sy0 <= sy1);
     }
     // Which counter the lane's triangle goes to, in the scalar code's order of tests.
     r.scalar = scalar;
@@ -500,8 +505,9 @@ struct FrontEndSimd {
 
   /// Writes lane l's drawn triangle as setup_triangle() and TriangleFrontEnd::run() would,
   /// appending its colour planes, if it interpolates, to `planes`.
-  static void store(const Results& r, const Vertices& v, int l, bool per_vertex, Rgba8 flat,
-                    std::uint32_t draw_index, std::vector<Plane>* planes, TriangleSetup& ts) {
+  static void store(const Results& r, const Vertices& v, int l, const DrawArea& area,
+                    bool per_vertex, Rgba8 flat, std::uint32_t draw_index,
+                    std::vector<Plane>* planes, TriangleSetup& ts) {
     for (int e = 0; e < 3; ++e)
       ts.edge[e] = {static_cast<std::int64_t>(r.ea[e][l]), static_cast<std::int64_t>(r.eb[e][l]),
                     static_cast<std::int64_t>(r.ec[e][l])};
@@ -532,6 +538,7 @@ struct FrontEndSimd {
       }
     }
     ts.draw = draw_index;
+    if (area.moved()) area.move(ts);
   }
 
   /// Appends lane l's varying planes to `planes` as setup_varyings() does: q and each varying
@@ -582,7 +589,7 @@ struct FrontEndSimd {
     for (std::uint32_t t0 = begin; t0 < end; t0 += N, cur ^= 1) {
       const int n = batch_size(t0);
       if (end - t0 > static_cast<std::uint32_t>(N)) fetch_batch(t0 + N, vertices[cur ^ 1]);
-      setup(vertices[cur], scalar.fetch, width, height, shaded, scalar.spots, r);
+      setup(vertices[cur], scalar.fetch, scalar.area, shaded, scalar.spots, r);
       const std::uint32_t drawn =
           ((1u << n) - 1) & ~(r.scalar | r.outside | r.face | r.degenerate | r.no_sample);
       if (drawn && scalar.per_vertex) color_planes(vertices[cur], drawn, r);
@@ -606,7 +613,7 @@ struct FrontEndSimd {
         const Rgba8 flat =
             draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
         TriangleSetup& ts = out.emplace_back();
-        store(r, vertices[cur], l, scalar.per_vertex, flat, draw_index, planes, ts);
+        store(r, vertices[cur], l, scalar.area, scalar.per_vertex, flat, draw_index, planes, ts);
         if (scalar.nvary > 0) store_varyings(r, l, scalar.nvary, *planes, ts);
       }
     }

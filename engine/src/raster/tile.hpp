@@ -132,6 +132,9 @@ struct TileScratch {
   alignas(64) float zmax[kMaxBlocksPerTile];  ///< hierarchical z: farthest depth in the block
   /// Samples written into each block since its bounds were last made exact from its depths.
   alignas(64) std::uint32_t hiz_written[kMaxBlocksPerTile];
+  /// Pixels of each block inside a draw's clip rectangle and the image (see the tile kernel's
+  /// clip_coverage()); kept here, not zeroed per tile, since most tiles never use it.
+  alignas(64) std::uint64_t clipped[kMaxBlocksPerTile];
   /// The resolved tile, row-major, kMaxTileSize pixels a row whatever the tile's size.
   alignas(64) std::uint32_t resolved[kMaxTileSize * kMaxTileSize];
 };

@@ -40,6 +40,7 @@
 #include <utility>
 #include <xsimd/xsimd.hpp>
 
+#include "front/draw_area.hpp"
 #include "raster/hiz.hpp"
 #include "raster/kernel_traits.hpp"
 #include "raster/sample_patterns.hpp"
@@ -112,6 +113,12 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     /// A shader draw's pixels waiting for a whole batch; written before anything else colours
     /// the tile (another draw's run, the resolve).
     typename Sh::ShadeQueue queue;
+    /// Pixels of each block the draw being drawn may cover: `valid`, or sc.clipped when its clip
+    /// rectangle (viewport ∩ scissor, front/draw_area.hpp) cuts the tile. Hierarchical z counts
+    /// a block's samples from `valid`: samples outside the rectangle still hold depths.
+    const std::uint64_t* cover = nullptr;
+    PixelRect clipped_rect{};  ///< the rectangle (target pixels) sc.clipped was made for
+    bool clipped_made = false;
   };
 
   using TriangleFn = void (*)(Context&, const front::TriangleSetup&);
@@ -220,7 +227,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       if (hidden) {
         for (int by = byb; by < bye; ++by)
           for (int bx = bxb; bx < bxe; ++bx)
-            cx.st.blocks_hiz_rejected += cx.valid[by * cx.side + bx] != 0;
+            cx.st.blocks_hiz_rejected += cx.cover[by * cx.side + bx] != 0;
         return;
       }
     }
@@ -293,7 +300,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                   b[e] * (std::int64_t{py0} * kSubpixel) + t.edge[e].c;
       for (int bx = row_b; bx < row_e; ++bx) {
         const int blk = by * cx.side + bx;
-        const std::uint64_t valid = cx.valid[blk];
+        const std::uint64_t inside = cx.cover[blk];
         // 1. Edge functions at the block's corner, and their extremes over the block: an edge
         // rejects the block before anything else is computed for it.
         std::int64_t eorg[3];
@@ -307,7 +314,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           fits32 &= lo >= std::numeric_limits<std::int32_t>::min() &&
                     hi <= std::numeric_limits<std::int32_t>::max();
         }
-        if (outside || !valid) continue;
+        if (outside || !inside) continue;
         const int px0 = tile.x0 + bx * kBlockSize;
 
         // 2. Hierarchical z, with the triangle's depth range over this block (its box's, if small).
@@ -347,7 +354,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           for (std::size_t s = s0; s < s1; ++s) {
             std::uint64_t m;
             if (all_in) {
-              m = valid;
+              m = inside;
             } else if (fits32) {
               // Edge values at this sample of the block's first pixel (exact: fits32), mod 2^32.
               const I b0(
@@ -356,7 +363,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                   static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[1]) + soff[1][s]));
               const I b2(
                   static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[2]) + soff[2][s]));
-              m = coverage32(b0, b1, b2, eoff, rows_down) & valid;
+              m = coverage32(b0, b1, b2, eoff, rows_down) & inside;
             } else {
               if (!doff_built) {
                 build_doff(a, b, doff);
@@ -365,7 +372,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
               const std::int64_t sx = kS1 ? kHalf : cx.soff[0][s], sy = kS1 ? kHalf : cx.soff[1][s];
               m = coverage_f64(eorg[0] + sx * a[0] + sy * b[0], eorg[1] + sx * a[1] + sy * b[1],
                                eorg[2] + sx * a[2] + sy * b[2], doff) &
-                  valid;
+                  inside;
             }
             cov[s] = m;
             covered += static_cast<std::uint64_t>(std::popcount(m));
@@ -431,7 +438,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         // A sample the triangle covers ends up holding either its new depth, in [blo, bhi], or
         // an old depth the test kept because it was nearer than the new one.
         if (kWrite && written) {
-          const std::uint64_t samples = static_cast<std::uint64_t>(std::popcount(valid)) * S;
+          const std::uint64_t samples =
+              static_cast<std::uint64_t>(std::popcount(cx.valid[blk])) * S;
           const bool all_covered = covered == samples, all_written = written == samples;
           float& zmn = cx.sc.zmin[blk];
           float& zmx = cx.sc.zmax[blk];
@@ -646,6 +654,35 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
   }
 
+  // Points cx.cover at the pixels of each block that draw `draw` may cover: the image's, or, where
+  // its clip rectangle cuts the tile, those inside the rectangle too (made once per rectangle).
+  static void clip_coverage(Context& cx, std::uint32_t draw) {
+    const DrawState& ds = cx.f.states[draw];
+    cx.cover = cx.valid;
+    if (!ds.viewport && !ds.scissor) return;
+    const PixelRect r = front::DrawArea::of(ds, cx.f.width, cx.f.height).in_target();
+    const TileRect& tile = cx.tile;
+    if (r.x <= tile.x0 && r.y <= tile.y0 && r.x + r.width >= tile.x0 + tile.width &&
+        r.y + r.height >= tile.y0 + tile.height)
+      return;
+    cx.cover = cx.sc.clipped;
+    if (cx.clipped_made && cx.clipped_rect == r) return;
+    for (int blk = 0; blk < cx.blocks; ++blk) {
+      const int px0 = tile.x0 + (blk % cx.side) * kBlockSize;
+      const int py0 = tile.y0 + (blk / cx.side) * kBlockSize;
+      const int c0 = std::clamp(r.x - px0, 0, kBlockSize);
+      const int c1 = std::clamp(r.x + r.width - px0, 0, kBlockSize);
+      const int r0 = std::clamp(r.y - py0, 0, kBlockSize);
+      const int r1 = std::clamp(r.y + r.height - py0, 0, kBlockSize);
+      const std::uint64_t row = c0 < c1 ? ((std::uint64_t{1} << c1) - (std::uint64_t{1} << c0)) : 0;
+      std::uint64_t m = 0;
+      for (int y = r0; y < r1; ++y) m |= row << (y * kBlockSize);
+      cx.sc.clipped[blk] = cx.valid[blk] & m;
+    }
+    cx.clipped_rect = r;
+    cx.clipped_made = true;
+  }
+
   // The exact bounds of the depths a block of the tile holds (a block with image pixels).
   static std::pair<float, float> exact_block_bounds(const Context& cx, int blk) {
     const int S = cx.f.samples;
@@ -752,6 +789,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       cx.ln.planes = run.planes;
       const bool mixed = run.draw == BinRun::kMixedDraws;
       DrawKernels kernels = mixed ? DrawKernels{} : pick(f, run.draw);
+      if (!mixed) clip_coverage(cx, run.draw);
       for (std::size_t k = 0; k < idx.size(); ++k) {
         // A bin's triangles lie far apart in the setup arrays (a tile takes a sparse subset),
         // so each is a cache miss: fetch the setup kPrefetchAhead triangles ahead while this one
@@ -776,6 +814,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         if (mixed) {
           if (cx.queue.n && cx.queue.shading != &f.shading[t.draw]) Sh::flush(cx.queue);
           kernels = pick(f, t.draw);
+          clip_coverage(cx, t.draw);
         }
         (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
       }
