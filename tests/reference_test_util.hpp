@@ -318,6 +318,19 @@ inline void expect_same(const Captured& ref, const Captured& fast, const std::st
   EXPECT_EQ(bad_pixel, 0u) << what;
 }
 
+/// The indices of a grid of cells × cells quads over (cells + 1)² row-major vertices, two
+/// triangles a quad, every interior vertex shared by six triangles.
+inline std::vector<std::uint32_t> grid_indices(int cells) {
+  const auto at = [cells](int i, int j) { return static_cast<std::uint32_t>(j * (cells + 1) + i); };
+  std::vector<std::uint32_t> out;
+  for (int j = 0; j < cells; ++j)
+    for (int i = 0; i < cells; ++i) {
+      out.insert(out.end(), {at(i, j), at(i + 1, j), at(i, j + 1)});
+      out.insert(out.end(), {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return out;
+}
+
 /// Random screen-space triangles over a width × height target (and past its edges) at random
 /// depths, per-vertex colours with alpha, depth test kLess; every third draw blends.
 inline std::vector<Mesh> random_draws(int width, int height, int draws, int triangles, Rng& rng) {

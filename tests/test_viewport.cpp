@@ -49,12 +49,7 @@ Grid make_grid(float aspect) {
       const glm::vec3 n = glm::normalize(glm::vec3(-0.5f * std::cos(1.1f * x), 1.0f, 0.3f));
       g.normals.insert(g.normals.end(), {n.x, n.y, n.z});
     }
-  const auto at = [](int i, int j) { return static_cast<std::uint32_t>(j * (kCells + 1) + i); };
-  for (int j = 0; j < kCells; ++j)
-    for (int i = 0; i < kCells; ++i) {
-      g.indices.insert(g.indices.end(), {at(i, j), at(i + 1, j), at(i, j + 1)});
-      g.indices.insert(g.indices.end(), {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
+  g.indices = test::grid_indices(kCells);
   return g;
 }
 

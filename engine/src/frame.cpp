@@ -19,6 +19,7 @@
 #include <cstring>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -82,27 +83,21 @@ void validate_shading(const Draw& draw, std::size_t vertices, const std::string&
 }
 
 // The viewport and scissor checks of validate_draw(): whole pixels within ±kMaxTargetSize, which
-// keeps every moved coordinate inside the 16.8 format (front/draw_area.hpp).
-void validate_area(const DrawState& state, const std::string& where) {
-  const auto text = [](const PixelRect& r) {
-    return "(" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.width) +
-           " x " + std::to_string(r.height) + ")";
-  };
+// keeps every moved coordinate inside the 16.8 format (front/draw_area.hpp); a viewport is at
+// least a pixel wide and tall, a scissor may be empty.
+void validate_rect(const std::optional<PixelRect>& rect, const char* name, int min_size,
+                   const std::string& where) {
+  if (!rect) return;
+  const PixelRect& r = *rect;
   const auto within = [](int v, int lo) { return v >= lo && v <= kMaxTargetSize; };
-  if (const auto& v = state.viewport) {
-    if (!within(v->x, -kMaxTargetSize) || !within(v->y, -kMaxTargetSize) || !within(v->width, 1) ||
-        !within(v->height, 1))
-      throw Error(Errc::kInvalidDraw, where + "viewport " + text(*v) +
-                                          ": x and y must lie within ±16384, width and height "
-                                          "within 1..16384");
-  }
-  if (const auto& s = state.scissor) {
-    if (!within(s->x, -kMaxTargetSize) || !within(s->y, -kMaxTargetSize) || !within(s->width, 0) ||
-        !within(s->height, 0))
-      throw Error(Errc::kInvalidDraw, where + "scissor " + text(*s) +
-                                          ": x and y must lie within ±16384, width and height "
-                                          "within 0..16384");
-  }
+  if (within(r.x, -kMaxTargetSize) && within(r.y, -kMaxTargetSize) && within(r.width, min_size) &&
+      within(r.height, min_size))
+    return;
+  throw Error(Errc::kInvalidDraw,
+              where + name + " (" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " +
+                  std::to_string(r.width) + " x " + std::to_string(r.height) +
+                  "): x and y must lie within ±16384, width and height within " +
+                  std::to_string(min_size) + "..16384");
 }
 
 }  // namespace
@@ -137,7 +132,8 @@ void validate_draw(const Draw& draw, std::size_t d) {
                                         " is not a multiple of 3 and there is no index buffer");
   }
   validate_shading(draw, vertices, where);
-  validate_area(draw.state, where);
+  validate_rect(draw.state.viewport, "viewport", 1, where);
+  validate_rect(draw.state.scissor, "scissor", 0, where);
   const std::size_t tris = front::triangle_count(draw);
   if (draw.color_source == ColorSource::kPerTriangle && draw.colors.size() != tris)
     throw Error(Errc::kInvalidDraw, where + std::to_string(draw.colors.size()) + " colours for " +

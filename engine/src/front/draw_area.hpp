@@ -43,9 +43,6 @@ struct DrawArea {
   }
 
   bool moved() const { return (dx | dy) != 0; }
-  bool empty() const { return x0 >= x1 || y0 >= y1; }
-  /// Whether the clip rectangle is the whole viewport: nothing but the viewport clips coverage.
-  bool clips_nothing() const { return x0 == 0 && y0 == 0 && x1 == width && y1 == height; }
 
   /// The pixels that may be drawn, in the target's pixels.
   PixelRect in_target() const { return {x0 + dx, y0 + dy, x1 - x0, y1 - y0}; }
