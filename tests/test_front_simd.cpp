@@ -58,7 +58,7 @@ void expect_same_setup(const front::TriangleSetup& a, const front::TriangleSetup
   expect_bits(a.z_min, b.z_min, "z_min", i);
   expect_bits(a.z_max, b.z_max, "z_max", i);
   EXPECT_EQ(a.color, b.color) << i;
-  EXPECT_EQ(a.draw, b.draw) << i;
+  EXPECT_EQ(a.draw_word, b.draw_word) << i;  // the draw and the facing
   // The planes themselves (q and colour·q, or q and the varyings) are compared in the arrays.
   EXPECT_EQ(a.planes_base, b.planes_base) << i;
 }

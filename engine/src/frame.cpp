@@ -154,6 +154,9 @@ void validate(const Frame& frame, const RenderTarget& target) {
     throw Error(Errc::kInvalidArgument,
                 "Frame::depth_load is kLoad, but the target keeps no sample depth to load "
                 "(TargetOptions::keep_sample_depth, or a DepthView)");
+  if (frame.draws.size() > front::kMaxDraws)
+    throw Error(Errc::kInvalidArgument, "a frame holds " + std::to_string(frame.draws.size()) +
+                                            " draws; at most " + std::to_string(front::kMaxDraws));
   for (std::size_t d = 0; d < frame.draws.size(); ++d) detail::validate_draw(frame.draws[d], d);
 }
 

@@ -9,4 +9,5 @@
 #include "mosaic/renderer.hpp"
 #include "mosaic/scene.hpp"
 #include "mosaic/shader.hpp"
+#include "mosaic/texture.hpp"
 #include "mosaic/types.hpp"

@@ -15,6 +15,13 @@
 // three vertices, interpolated perspective-correctly (attr·q planes divided by the 1/w plane, the
 // way the renderer interpolates vertex colours), at the pixel centre under MSAA (once per pixel)
 // or at each sample under SSAA. Only the attributes listed in Draw::varyings are interpolated.
+// With ShaderUses::derivatives, each varying also comes with its screen-space derivatives along x
+// and y, per pixel: analytic, from the triangle's planes (v = P / Q, so dv/dx = (dP/dx - v dQ/dx)
+// / Q), not differences across a 2×2 quad, so that they are exact for every lane of a batch that
+// packs pixels of many triangles, and equal on every path. Each lane also says whether its
+// triangle faces the viewer (DrawState::front_face), and a shader that declares
+// ShaderUses::discards may drop lanes: a discarded pixel (or sample under SSAA) writes neither
+// colour nor depth, and does not count in FrameStats::samples_written.
 //
 // Contract. A shader must be a pure function of each lane's inputs: lane l's output may depend
 // only on x[l], y[l] and varying[k][l] (and the callable's own constant state). The fast path
@@ -30,8 +37,11 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <utility>
+
+#include "mosaic/texture.hpp"
 
 namespace mosaic {
 
@@ -54,9 +64,15 @@ struct alignas(64) ShaderInput {
   float y[kShaderBatch];
   /// varying[k][l]: varying k of lane l, perspective-correct. Rows k >= varying_count are unset.
   float varying[kMaxVaryings][kShaderBatch];
+  /// ddx[k][l], ddy[k][l]: the derivatives of varying k of lane l along x and y, per pixel; set
+  /// only for a shader made with ShaderUses::derivatives (rows k < varying_count).
+  float ddx[kMaxVaryings][kShaderBatch];
+  float ddy[kMaxVaryings][kShaderBatch];
   /// Bit l set: lane l will be written. Inactive lanes' varyings are 0 and their outputs are
   /// ignored; they are there so that the loop over the batch needs no branch.
   std::uint32_t active = 0;
+  /// Bit l set: lane l's triangle faces the viewer (its winding is DrawState::front_face).
+  std::uint32_t front_facing = 0;
   int varying_count = 0;  ///< Draw::varyings.size()
 };
 
@@ -64,10 +80,22 @@ struct alignas(64) ShaderInput {
 /// 8 bits as clamp(v * 255, 0, 255) rounded half up (NaN becomes 0).
 struct alignas(64) ShaderOutput {
   float r[kShaderBatch], g[kShaderBatch], b[kShaderBatch], a[kShaderBatch];
+  /// Bit l set: lane l is discarded. Read only for a shader made with ShaderUses::discards.
+  std::uint32_t discard = 0;
 };
 
 /// What a shader is, after make_shader(): a function over one batch, and its state.
 using ShaderFunction = void (*)(const void* state, const ShaderInput& in, ShaderOutput& out);
+
+/// What a shader reads and does beyond its colour, declared to make_shader() so that draws pay
+/// only for what their shader uses.
+struct ShaderUses {
+  int varyings = 0;          ///< varyings read: 0 .. varyings - 1
+  bool derivatives = false;  ///< reads ShaderInput::ddx and ddy (Fragment::ddx(), sample())
+  /// May set ShaderOutput::discard. Such a draw tests depth before shading but writes it after,
+  /// for the lanes kept, and its pixels are shaded block by block rather than packed.
+  bool discards = false;
+};
 
 /// One lane of a ShaderInput, for per-pixel shaders.
 class Fragment {
@@ -82,6 +110,18 @@ class Fragment {
   glm::vec3 varying3(int k) const { return {varying(k), varying(k + 1), varying(k + 2)}; }
   glm::vec4 varying4(int k) const {
     return {varying(k), varying(k + 1), varying(k + 2), varying(k + 3)};
+  }
+  /// The derivatives of varying k along x and y, per pixel (ShaderUses::derivatives only).
+  float ddx(int k) const { return in_->ddx[k][lane_]; }
+  float ddy(int k) const { return in_->ddy[k][lane_]; }
+  glm::vec2 ddx2(int k) const { return {ddx(k), ddx(k + 1)}; }
+  glm::vec2 ddy2(int k) const { return {ddy(k), ddy(k + 1)}; }
+  /// Whether this pixel's triangle faces the viewer.
+  bool front_facing() const { return (in_->front_facing >> lane_) & 1u; }
+  /// `texture` sampled at the UV in varyings k, k + 1, its level of detail from their
+  /// derivatives (the shader must be made with ShaderUses::derivatives).
+  glm::vec4 sample(const Texture& texture, const Sampler& sampler, int k) const {
+    return texture.sample(sampler, varying2(k), ddx2(k), ddy2(k));
   }
   /// This pixel's lane in the batch (which lane a pixel gets is unspecified: the colour must
   /// not depend on it).
@@ -103,29 +143,43 @@ class Shader {
   const void* state() const noexcept { return state_.get(); }     ///< its first argument
   /// Varyings the shader reads (varying 0 .. varyings_read() - 1); a draw must give at least
   /// this many in Draw::varyings.
-  int varyings_read() const noexcept { return varyings_read_; }
+  int varyings_read() const noexcept { return uses_.varyings; }
+  const ShaderUses& uses() const noexcept { return uses_; }  ///< what make_shader() was told
 
-  /// A shader from a batch function and its state (what make_shader() builds). `varyings_read`
+  /// A shader from a batch function and its state (what make_shader() builds). `uses.varyings`
   /// is checked by Renderer::render() against each draw, like the rest of the draw.
-  Shader(ShaderFunction fn, std::shared_ptr<const void> shared_state, int reads)
-      : function_(fn), state_(std::move(shared_state)), varyings_read_(reads) {}
+  Shader(ShaderFunction fn, std::shared_ptr<const void> shared_state, const ShaderUses& uses)
+      : function_(fn), state_(std::move(shared_state)), uses_(uses) {}
 
  private:
   ShaderFunction function_ = nullptr;
   std::shared_ptr<const void> state_;
-  int varyings_read_ = 0;
+  ShaderUses uses_;
 };
 
 namespace detail {
 
+template <class T>
+inline constexpr bool kIsOptional = false;
+template <class T>
+inline constexpr bool kIsOptional<std::optional<T>> = true;
+
 // The batch loop of a per-pixel callable, instantiated in the caller's translation unit: the
 // callable inlines into it. Every lane runs, active or not (inactive ones hold zeros), so the
-// loop has no branch and a constant trip count.
+// loop has no branch and a constant trip count. A callable returning std::optional discards
+// the lanes it returns no colour for.
 template <class F>
 void shade_per_pixel(const void* state, const ShaderInput& in, ShaderOutput& out) {
   const F& f = *static_cast<const F*>(state);
   for (int l = 0; l < kShaderBatch; ++l) {
-    const glm::vec4 c = f(Fragment(in, l));
+    glm::vec4 c;
+    if constexpr (kIsOptional<std::invoke_result_t<const F&, const Fragment&>>) {
+      const auto kept = f(Fragment(in, l));
+      out.discard |= static_cast<std::uint32_t>(!kept) << l;
+      c = kept.value_or(glm::vec4(0.0f));
+    } else {
+      c = f(Fragment(in, l));
+    }
     out.r[l] = c.r;
     out.g[l] = c.g;
     out.b[l] = c.b;
@@ -140,25 +194,37 @@ void shade_per_batch(const void* state, const ShaderInput& in, ShaderOutput& out
 
 }  // namespace detail
 
-/// Makes a Shader from a callable that reads `varyings_read` varyings. The callable is either
+/// Makes a Shader from a callable that uses what `uses` declares. The callable is either
 ///  - per pixel: `glm::vec4 f(const mosaic::Fragment&)` returning straight-alpha RGBA in 0..1, or
-///  - per batch: `void f(const mosaic::ShaderInput&, mosaic::ShaderOutput&)`, filling every lane.
+///    `std::optional<glm::vec4> f(const mosaic::Fragment&)`, which discards where it returns
+///    std::nullopt (uses.discards is then implied), or
+///  - per batch: `void f(const mosaic::ShaderInput&, mosaic::ShaderOutput&)`, filling every lane
+///    (and, with uses.discards, setting ShaderOutput::discard bits).
 /// It is copied into the Shader. See the top of this header for the contract (pure per lane,
 /// thread-safe).
 template <class F>
-Shader make_shader(F f, int varyings_read = 0) {
+Shader make_shader(F f, ShaderUses uses) {
   using Fn = std::decay_t<F>;
   ShaderFunction fn = nullptr;
   if constexpr (std::is_invocable_v<const Fn&, const ShaderInput&, ShaderOutput&>) {
     fn = &detail::shade_per_batch<Fn>;
   } else {
+    using R = std::invoke_result_t<const Fn&, const Fragment&>;
     static_assert(
-        std::is_convertible_v<std::invoke_result_t<const Fn&, const Fragment&>, glm::vec4>,
-        "a shader is glm::vec4(const mosaic::Fragment&) or "
+        std::is_convertible_v<R, glm::vec4> || std::is_same_v<R, std::optional<glm::vec4>>,
+        "a shader is glm::vec4(const mosaic::Fragment&), "
+        "std::optional<glm::vec4>(const mosaic::Fragment&) or "
         "void(const mosaic::ShaderInput&, mosaic::ShaderOutput&)");
     fn = &detail::shade_per_pixel<Fn>;
+    uses.discards = uses.discards || detail::kIsOptional<R>;
   }
-  return Shader(fn, std::make_shared<const Fn>(std::move(f)), varyings_read);
+  return Shader(fn, std::make_shared<const Fn>(std::move(f)), uses);
+}
+
+/// make_shader() of a shader that reads `varyings_read` varyings and nothing else.
+template <class F>
+Shader make_shader(F f, int varyings_read = 0) {
+  return make_shader(std::move(f), ShaderUses{varyings_read, false, false});
 }
 
 /// Built-in: every pixel `color` (straight alpha, 0..1). Reads no varying.

@@ -140,7 +140,7 @@ void TriangleFrontEnd::run(std::uint32_t t) {
       setup_varyings(tri, basis,
                      {poly_attr[0].data(), poly_attr[k].data(), poly_attr[k + 1].data()}, nvary, ts,
                      *planes_);
-    ts.draw = draw_index_;
+    ts.set_draw(draw_index_, ts.back_face());
     if (sort_keys) sort_keys->push_back(sort_depth(tri, basis));
     ++stats.drawn;
     any_drawn = true;

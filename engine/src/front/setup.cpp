@@ -73,6 +73,7 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
   const bool front = (state.front_face == FrontFace::kCounterClockwise) == ccw_on_screen;
   if ((state.cull == CullMode::kBack && !front) || (state.cull == CullMode::kFront && front))
     return SetupReject::kFace;
+  out.set_draw(0, !front);  // the caller sets the draw index
 
   // Orient clockwise on screen (positive area) so that "inside" is E >= 0 for all three edges.
   std::array<int, 3> idx{0, 1, 2};

@@ -85,13 +85,23 @@ struct alignas(64) TriangleSetup {
   float x0 = 0, y0 = 0;                    ///< plane anchor: the snapped first vertex, in pixels
   int bx0 = 0, by0 = 0, bx1 = 0, by1 = 0;  ///< pixels [bx0, bx1) × [by0, by1) that may be covered
   Plane z;
-  float z_min = 0, z_max = 0;             ///< depth is clamped to the vertices' range
-  Rgba8 color;                            ///< the colour when planes_base is kNoPlanes
-  std::uint32_t draw = 0;                 ///< index of the draw, for its state
+  float z_min = 0, z_max = 0;  ///< depth is clamped to the vertices' range
+  Rgba8 color;                 ///< the colour when planes_base is kNoPlanes
+  /// Bits 0..30: the index of the draw, for its state; bit 31: the triangle is a back face (its
+  /// winding is not DrawState::front_face). One word, written with one store.
+  std::uint32_t draw_word = 0;
   std::uint32_t planes_base = kNoPlanes;  ///< see above
+
+  static constexpr std::uint32_t kDrawBits = 0x7fff'ffffu;
+  std::uint32_t draw() const { return draw_word & kDrawBits; }
+  bool back_face() const { return (draw_word >> 31) != 0; }
+  void set_draw(std::uint32_t index, std::uint32_t back) { draw_word = index | (back << 31); }
 };
 
 static_assert(sizeof(TriangleSetup) == 128, "two cache lines: see above");
+
+/// Draws a frame may hold: TriangleSetup keeps a draw's index in 31 bits.
+inline constexpr std::uint32_t kMaxDraws = TriangleSetup::kDrawBits;
 
 /// Whether a triangle without a shader is shaded with `color` (no planes) or interpolates.
 inline bool is_flat(const TriangleSetup& t) { return t.planes_base == kNoPlanes; }

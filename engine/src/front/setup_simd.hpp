@@ -78,6 +78,7 @@ struct FrontEndSimd {
     /// zero area, or for a box that holds no sample position; the lanes in none of these are drawn.
     std::uint32_t scalar, outside, face, degenerate, no_sample;
     std::uint32_t interpolated;  ///< drawn with differing vertex colours: the planes below are set
+    std::uint32_t back;          ///< winding not DrawState::front_face (TriangleSetup::back_face())
     alignas(64) double ea[3][N], eb[3][N], ec[3][N];  ///< edge coefficients (integers)
     alignas(64) double bx0[N], by0[N], bx1[N], by1[N];
     alignas(64) double x0[N], y0[N], z_min[N], z_max[N];
@@ -369,9 +370,11 @@ struct FrontEndSimd {
   }
 
   /// clip_triangle()'s classification, the perspective divide and setup_triangle(), in lanes; a
-  /// cached v brings its corners already projected.
-  static void setup(const Vertices& v, const VertexFetch& fetch, const DrawArea& area, bool shaded,
-                    const SampleSpots& spots, Results& r) {
+  /// cached v brings its corners already projected. It and set_up() inline into run(), their one
+  /// caller: out of line, the call costs more than the facing bits they compute.
+  [[gnu::always_inline]] static void setup(const Vertices& v, const VertexFetch& fetch,
+                                           const DrawArea& area, bool shaded,
+                                           const SampleSpots& spots, Results& r) {
     const D w(static_cast<double>(area.width)), h(static_cast<double>(area.height));
     D px[3], py[3], z[3], q[3];
     std::uint32_t scalar, clip_culled;
@@ -407,9 +410,11 @@ struct FrontEndSimd {
   }
 
   /// setup_triangle() in lanes from the corners' projections, for lanes not in `scalar`.
-  static void set_up(const D (&px)[3], const D (&py)[3], const D (&z)[3], const D (&q)[3],
-                     std::uint32_t scalar, std::uint32_t clip_culled, const DrawState& state,
-                     const DrawArea& area, bool shaded, const SampleSpots& spots, Results& r) {
+  [[gnu::always_inline]] static void set_up(const D (&px)[3], const D (&py)[3], const D (&z)[3],
+                                            const D (&q)[3], std::uint32_t scalar,
+                                            std::uint32_t clip_culled, const DrawState& state,
+                                            const DrawArea& area, bool shaded,
+                                            const SampleSpots& spots, Results& r) {
     const D area2 = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]);
     const B degenerate = area2 == D(0.0);
     const B ccw = area2 < D(0.0);
@@ -417,6 +422,7 @@ struct FrontEndSimd {
     const B face = state.cull == CullMode::kBack    ? !front
                    : state.cull == CullMode::kFront ? front
                                                     : B(false);
+    r.back = M::bits(!front);
 
     // The pixel box: floor(v / 256) is the scalar arithmetic shift, exact in double.
     constexpr double kPxPerUnit = 1.0 / kSubpixelOne;
@@ -537,7 +543,7 @@ struct FrontEndSimd {
         ts.color = {c[0], c[1], c[2], c[3]};
       }
     }
-    ts.draw = draw_index;
+    ts.set_draw(draw_index, (r.back >> l) & 1u);
     if (area.moved()) area.move(ts);
   }
 

@@ -14,6 +14,7 @@ enum class ColorMode {
   kFlat,          ///< one colour per triangle (TriangleSetup::color)
   kInterpolated,  ///< vertex colour, perspective-correct, per pixel (MSAA) or per sample (SSAA)
   kGeneric,       ///< a fragment shader or blending: shaded in batches after the depth test
+  kDiscarding,    ///< a shader that may discard: as kGeneric, but depth is written after shading
 };
 
 /// One specialisation of the tile kernel's triangle loop.

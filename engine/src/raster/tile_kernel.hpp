@@ -138,7 +138,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       return {k, k};
     }
     if (!f.shading.empty() && f.shading[draw].generic) {
-      const TriangleFn k = by_depth<ColorMode::kGeneric, false, 0>(ds);
+      const TriangleFn k = f.shading[draw].discards ? by_depth<ColorMode::kDiscarding, false, 0>(ds)
+                                                    : by_depth<ColorMode::kGeneric, false, 0>(ds);
       return {k, k};
     }
     const TriangleFn flat = by_samples<ColorMode::kFlat>(ds, f.samples);
@@ -189,7 +190,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     constexpr bool kWrite = K::kWrite, kSsaa = K::kSsaa, kS1 = K::kOneSample;
     constexpr bool kColor = K::kColor != ColorMode::kNone;
     constexpr bool kFlat = K::kColor == ColorMode::kFlat;
-    constexpr bool kGeneric = K::kColor == ColorMode::kGeneric;
+    // A shader that discards tests depth first and writes it after shading, for what it keeps.
+    constexpr bool kLateZ = K::kColor == ColorMode::kDiscarding;
+    constexpr bool kGeneric = K::kColor == ColorMode::kGeneric || kLateZ;
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
     const int S = K::kSamples ? K::kSamples : f.samples;
@@ -264,6 +267,13 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     bool doff_built = false;
     const float tlo = t.z_min, thi = t.z_max;
     const F x0(t.x0), y0(t.y0), zb(t.z.base), zdx(t.z.ddx), zdy(t.z.ddy), zlo(tlo), zhi(thi);
+    // The depth plane of the reference at sample positions (fx, fy) in pixels:
+    // (base + ddx * (x - x0)) + ddy * (y - y0), clamped.
+    const auto depth_at = [x0, y0, zb, zdx, zdy, zlo, zhi](F fx, F fy) {
+      const F zr = (zb + zdx * (fx - x0)) + zdy * (fy - y0);
+      const F zc = xsimd::select(zr > zlo, zr, zlo);
+      return xsimd::select(zc < zhi, zc, zhi);
+    };
     [[maybe_unused]] const I flat_color(Sh::bits_of(t.color));
 
     for (int by = byb; by < bye; ++by) {
@@ -384,19 +394,17 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             const std::size_t i = static_cast<std::size_t>(std::countr_zero(act));
             const std::size_t k = s0 * kVectors + i;
             const std::uint32_t lanes = lanes_of(cov, k);
-            // Sample positions in pixels (exact in float), then the depth plane of the
-            // reference: (base + ddx * (x - x0)) + ddy * (y - y0), clamped.
+            // Sample positions in pixels (exact in float), then their depth.
             const F fx = fx_blk + cx.sx[k], fy = fy_row + cx.sy[k];
-            const F zr = (zb + zdx * (fx - x0)) + zdy * (fy - y0);
-            const F zc = xsimd::select(zr > zlo, zr, zlo);
-            const F z = xsimd::select(zc < zhi, zc, zhi);
+            const F z = depth_at(fx, fy);
             float* dp = dblk + k * L;
             std::uint32_t pass = lanes;
             if constexpr (kTest != DepthTest::kAlways || kWrite) {
               const F stored = F::load_aligned(dp);
               if constexpr (kTest != DepthTest::kAlways) pass &= passes<kTest>(z, stored) | keep;
               // (A lane outside `pass` stores back what it loaded.)
-              if constexpr (kWrite) xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
+              if constexpr (kWrite && !kLateZ)
+                xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
             }
             written += static_cast<std::uint64_t>(std::popcount(pass));
             // Flat colour stores under the mask whatever it is; a shaded colour is worth a branch.
@@ -430,6 +438,21 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         const std::uint64_t tested = covered;
         if constexpr (kGeneric) {
           if (written) color_generic(cx, t, blk, px0, py0, passed);
+        }
+        if constexpr (kLateZ) {
+          // What the shader kept: its depths, and the count of samples written.
+          written = 0;
+          for (int s = 0; s < S; ++s) {
+            written += static_cast<std::uint64_t>(std::popcount(passed[s]));
+            for (std::uint64_t vs = kWrite ? vectors_with_lanes(passed[s]) : 0; vs; vs &= vs - 1) {
+              const std::size_t k = static_cast<std::size_t>(s * kVectors + std::countr_zero(vs));
+              const std::uint32_t lanes =
+                  static_cast<std::uint32_t>(passed[s] >> ((k % kVectors) * L) & kLaneBits);
+              float* dp = dblk + k * L;
+              const F z = depth_at(fx_blk + cx.sx[k], fy_row + cx.sy[k]);
+              xsimd::select(M::floats(lanes), z, F::load_aligned(dp)).store_aligned(dp);
+            }
+          }
         }
         cx.st.samples_tested += tested;
         cx.st.samples_written += written;
@@ -467,12 +490,12 @@ struct TileKernelImpl : simd::LaneTypes<A> {
 
   // Colours a block of a shaded or blending draw where its samples passed (shade/shade_simd.hpp).
   static void color_generic(Context& cx, const front::TriangleSetup& t, int blk, int px0, int py0,
-                            const std::uint64_t* passed) {
+                            std::uint64_t* passed) {
     const TileFrame& f = cx.f;
     const int S = f.samples;
     std::uint32_t* cblk = cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
-    Sh::color_block(cx.ln, cx.queue, t, f.shading[t.draw],
-                    f.states[t.draw].blend == BlendMode::kSourceOver, f.ssaa, S, cblk, px0, py0,
+    Sh::color_block(cx.ln, cx.queue, t, f.shading[t.draw()],
+                    f.states[t.draw()].blend == BlendMode::kSourceOver, f.ssaa, S, cblk, px0, py0,
                     passed);
   }
 
@@ -812,9 +835,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         }
         const front::TriangleSetup& t = run.tris[idx[k]];
         if (mixed) {
-          if (cx.queue.n && cx.queue.shading != &f.shading[t.draw]) Sh::flush(cx.queue);
-          kernels = pick(f, t.draw);
-          clip_coverage(cx, t.draw);
+          if (cx.queue.n && cx.queue.shading != &f.shading[t.draw()]) Sh::flush(cx.queue);
+          kernels = pick(f, t.draw());
+          clip_coverage(cx, t.draw());
         }
         (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
       }

@@ -1,6 +1,7 @@
 #include "reference/reference.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <numeric>
 
@@ -8,6 +9,7 @@
 #include "front/front_end.hpp"
 #include "raster/depth_test.hpp"
 #include "raster/sample_patterns.hpp"
+#include "raster/tile.hpp"
 #include "resolve/resolve.hpp"
 #include "shade/shading.hpp"
 
@@ -78,49 +80,57 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
   }
 
   for (const front::TriangleSetup& t : tris) {
-    DrawState state = frame.draws[t.draw].state;
+    DrawState state = frame.draws[t.draw()].state;
     if (frame.painter) {
       state.depth_test = DepthTest::kAlways;
       state.depth_write = false;
     }
+    // A draw with a shader or blending: shade::shade_one(), with the pixel in the lane the
+    // tile kernels give it (pixel p of an 8×8 block is lane p % kShaderBatch).
+    const shade::DrawShading* sh =
+        shading.empty() || !shading[t.draw()].generic ? nullptr : &shading[t.draw()];
+    const auto colour_at = [&](float x, float y, int lane) {
+      return sh ? shade::shade_one(t, *sh, planes.data(), x, y, lane)
+                : shade::Shaded{front::shade(t, planes.data(), x, y)};
+    };
     for (int py = t.by0; py < t.by1; ++py) {
       for (int px = t.bx0; px < t.bx1; ++px) {
-        bool shaded = false;
-        Rgba8 pixel_color;
+        // The depth test of every covered sample, then the shading, then the writes: a shader
+        // that discards a pixel (or sample) leaves its depth and colour as they were.
+        std::uint32_t pass = 0;
+        std::array<float, raster::kMaxSamples> zs{};
         for (int s = 0; s < S; ++s) {
           const raster::SampleOffset o = pattern[s];
           const std::int64_t sx = raster::sample_x_fixed(px, o);
           const std::int64_t sy = raster::sample_y_fixed(py, o);
           if (t.edge[0](sx, sy) < 0 || t.edge[1](sx, sy) < 0 || t.edge[2](sx, sy) < 0) continue;
-          const float fx = raster::sample_x_px(px, o);
-          const float fy = raster::sample_y_px(py, o);
-          const float z = front::sample_depth(t, fx, fy);
+          zs[s] = front::sample_depth(t, raster::sample_x_px(px, o), raster::sample_y_px(py, o));
           ++stats.samples_tested;
           const std::size_t i = (static_cast<std::size_t>(py) * W + px) * S + s;
-          if (!raster::depth_passes(state.depth_test, z, buf.depth[i])) continue;
-          if (state.depth_write) buf.depth[i] = z;
+          if (raster::depth_passes(state.depth_test, zs[s], buf.depth[i])) pass |= 1u << s;
+        }
+        if (!pass) continue;
+        const int lane = ((py % 8) * 8 + px % 8) % kShaderBatch;
+        shade::Shaded pixel;  // MSAA: shaded once per pixel, at its centre, covered or not
+        if (state.color_write && !frame.ssaa) {
+          pixel = colour_at(float(px) + 0.5f, float(py) + 0.5f, lane);
+          if (pixel.discarded) continue;
+        }
+        for (int s = 0; s < S; ++s) {
+          if (!((pass >> s) & 1u)) continue;
+          const std::size_t i = (static_cast<std::size_t>(py) * W + px) * S + s;
+          shade::Shaded c = pixel;
+          if (state.color_write && frame.ssaa) {
+            c = colour_at(raster::sample_x_px(px, pattern[s]), raster::sample_y_px(py, pattern[s]),
+                          lane);
+            if (c.discarded) continue;
+          }
+          if (state.depth_write) buf.depth[i] = zs[s];
           ++stats.samples_written;
           if (!state.color_write) continue;  // a depth-only draw: no shading, no colour
-          // A draw with a shader or blending: shade::shade_one(), with the pixel in the lane the
-          // tile kernels give it (pixel p of an 8×8 block is lane p % kShaderBatch).
-          const shade::DrawShading* sh =
-              shading.empty() || !shading[t.draw].generic ? nullptr : &shading[t.draw];
-          const int lane = ((py % 8) * 8 + px % 8) % kShaderBatch;
-          const auto colour_at = [&](float x, float y) {
-            return sh ? shade::shade_one(t, *sh, planes.data(), x, y, lane)
-                      : front::shade(t, planes.data(), x, y);
-          };
-          Rgba8 c;
-          if (frame.ssaa) {
-            c = colour_at(fx, fy);
-          } else {
-            // MSAA: shade once per pixel, at its centre, whether or not the centre is covered.
-            if (!shaded) pixel_color = colour_at(float(px) + 0.5f, float(py) + 0.5f);
-            shaded = true;
-            c = pixel_color;
-          }
-          if (state.blend == BlendMode::kSourceOver) c = shade::blend_over(c, buf.color[i]);
-          buf.color[i] = c;
+          buf.color[i] = state.blend == BlendMode::kSourceOver
+                             ? shade::blend_over(c.color, buf.color[i])
+                             : c.color;
         }
       }
     }

@@ -8,6 +8,7 @@
 // (ShadeQueue) that packs the pixels of many triangles and blocks into whole batches.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -49,6 +50,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     std::uint32_t* color[kShaderBatch];    ///< each entry's first colour sample
     std::uint32_t samples[kShaderBatch];   ///< bit s: write color[l] + s * kBlockPixels
     int n = 0;                             ///< entries queued
+    std::uint32_t front_facing = 0;        ///< ShaderInput::front_facing of the entries queued
     const DrawShading* shading = nullptr;  ///< the draw of every entry queued
     bool blend = false;                    ///< whether that draw blends
   };
@@ -110,16 +112,16 @@ struct ShadeSimd : simd::LaneTypes<A> {
 
   // The colours of batch `g` of a block (pixels 16g .. 16g + 15) at offsets (ox, oy) from the
   // pixel corners: the shader's batch function once, with lanes outside `active` zeroed, or the
-  // setup's colour (shade::shade_one() lane-wise).
-  static void batch_colors(const Lanes& ln, const front::TriangleSetup& t, const DrawShading& sh,
-                           int g, F fx_blk, F fy_blk, F ox, F oy, std::uint32_t active,
-                           I (&out)[kBatchVectors]) {
+  // setup's colour (shade::shade_one() lane-wise). Returns the active lanes the shader discards.
+  static std::uint32_t batch_colors(const Lanes& ln, const front::TriangleSetup& t,
+                                    const DrawShading& sh, int g, F fx_blk, F fy_blk, F ox, F oy,
+                                    std::uint32_t active, I (&out)[kBatchVectors]) {
     if (!sh.function) {
       for (int j = 0; j < kBatchVectors; ++j) {
         const int v = g * kBatchVectors + j;
         out[j] = shade(t, ln.planes, (fx_blk + ln.colf[v]) + ox, (fy_blk + ln.rowf[v]) + oy);
       }
-      return;
+      return 0;
     }
     ShaderInput in;  // filled up to varying_count: the rest is never read
     ShaderOutput res;
@@ -133,15 +135,28 @@ struct ShadeSimd : simd::LaneTypes<A> {
         const front::Plane* p = ln.planes + t.planes_base;  // q, then the varyings
         const F q = plane(p[0], t.x0, t.y0, x, y);
         for (int k = 0; k < sh.varyings; ++k) {
-          const F val = plane(p[1 + k], t.x0, t.y0, x, y) / q;
-          xsimd::select(lanes, val, F(0.0f)).store_aligned(in.varying[k] + j * L);
+          xsimd::select(lanes, plane(p[1 + k], t.x0, t.y0, x, y) / q, F(0.0f))
+              .store_aligned(in.varying[k] + j * L);
+        }
+        for (int k = 0; sh.derivatives && k < sh.varyings; ++k) {
+          const F val = F::load_aligned(in.varying[k] + j * L);
+          slope(p[1 + k].ddx, p[0].ddx, val, q, lanes).store_aligned(in.ddx[k] + j * L);
+          slope(p[1 + k].ddy, p[0].ddy, val, q, lanes).store_aligned(in.ddy[k] + j * L);
         }
       }
     }
     in.active = active;
+    in.front_facing = front_lanes(t) & active;
     in.varying_count = sh.varyings;
     sh.function(sh.state, in, res);
     pack_output(res, out);
+    return sh.discards ? res.discard & active : 0u;
+  }
+
+  // shade::varying_slope() lane-wise, 0 outside `lanes` (inactive lanes hold zeros).
+  [[gnu::always_inline]] static F slope(float dp, float dq, F v, F q,
+                                        xsimd::batch_bool<float, A> lanes) {
+    return xsimd::select(lanes, (F(dp) - v * F(dq)) / q, F(0.0f));
   }
 
   // A shader's output lanes as packed RGBA8 (shade::output_to_unorm8() lane-wise).
@@ -158,9 +173,11 @@ struct ShadeSimd : simd::LaneTypes<A> {
 
   /// Queues one pixel or sample at shading position (x, y) of triangle t: its varyings as
   /// batch_colors() computes them lane-wise (shade::varying_at()), and the colour samples it
-  /// writes. A full queue is shaded and written at once.
+  /// writes. A full queue is shaded and written at once. `front` is all ones if t faces the
+  /// viewer, else 0.
   static void enqueue(ShadeQueue& q, const front::TriangleSetup& t, const front::Plane* planes,
-                      float x, float y, std::uint32_t* color, std::uint32_t samples) {
+                      float x, float y, std::uint32_t* color, std::uint32_t samples,
+                      std::uint32_t front) {
     const int l = q.n++;
     q.in.x[l] = x;
     q.in.y[l] = y;
@@ -170,7 +187,15 @@ struct ShadeSimd : simd::LaneTypes<A> {
       const float qv = front::eval_plane(p[0], t.x0, t.y0, x, y);
       for (int k = 0; k < nv; ++k)
         q.in.varying[k][l] = front::eval_plane(p[1 + k], t.x0, t.y0, x, y) / qv;
+      if (q.shading->derivatives) {
+        for (int k = 0; k < nv; ++k) {
+          const float v = q.in.varying[k][l];
+          q.in.ddx[k][l] = varying_slope(p[1 + k].ddx, p[0].ddx, v, qv);
+          q.in.ddy[k][l] = varying_slope(p[1 + k].ddy, p[0].ddy, v, qv);
+        }
+      }
     }
+    q.front_facing |= front & (1u << l);
     q.color[l] = color;
     q.samples[l] = samples;
     if (q.n == kShaderBatch) flush(q);
@@ -187,7 +212,15 @@ struct ShadeSimd : simd::LaneTypes<A> {
       q.in.x[l] = q.in.y[l] = 0.0f;
       for (int k = 0; k < sh.varyings; ++k) q.in.varying[k][l] = 0.0f;
     }
+    if (sh.derivatives) {
+      for (int k = 0; k < sh.varyings; ++k) {
+        std::fill(q.in.ddx[k] + n, q.in.ddx[k] + kShaderBatch, 0.0f);
+        std::fill(q.in.ddy[k] + n, q.in.ddy[k] + kShaderBatch, 0.0f);
+      }
+    }
     q.in.active = static_cast<std::uint32_t>((std::uint64_t{1} << n) - 1);
+    q.in.front_facing = q.front_facing;
+    q.front_facing = 0;
     q.in.varying_count = sh.varyings;
     ShaderOutput res;
     sh.function(sh.state, q.in, res);
@@ -212,18 +245,20 @@ struct ShadeSimd : simd::LaneTypes<A> {
                             bool ssaa, int S, int s, std::uint32_t bits, std::uint32_t* cblk,
                             int px0, int py0, const std::uint64_t* passed) {
     const auto fx_blk = static_cast<float>(px0), fy_blk = static_cast<float>(py0);
+    const std::uint32_t front = front_lanes(t);
     for (; bits; bits &= bits - 1) {
       const int p = g * kShaderBatch + std::countr_zero(bits);
       const auto col = static_cast<float>(p % raster::kBlockSize);
       const auto row = static_cast<float>(p / raster::kBlockSize);
       if (ssaa) {
         enqueue(q, t, ln.planes, (fx_blk + col) + ln.oxs[s], (fy_blk + row) + ln.oys[s],
-                cblk + s * kBlockPixels + p, 1u);
+                cblk + s * kBlockPixels + p, 1u, front);
         continue;
       }
       std::uint32_t samples = 0;
       for (int k = 0; k < S; ++k) samples |= static_cast<std::uint32_t>((passed[k] >> p) & 1) << k;
-      enqueue(q, t, ln.planes, (fx_blk + col) + 0.5f, (fy_blk + row) + 0.5f, cblk + p, samples);
+      enqueue(q, t, ln.planes, (fx_blk + col) + 0.5f, (fy_blk + row) + 0.5f, cblk + p, samples,
+              front);
     }
   }
 
@@ -231,10 +266,12 @@ struct ShadeSimd : simd::LaneTypes<A> {
   // (MSAA; only pixels some sample of which passed are active) or per sample (SSAA), blended
   // over each sample's colour when the draw blends. A shader's whole batches are shaded here,
   // after the queue is written (it holds earlier triangles' pixels); partial ones are queued.
+  // A shader that discards is never queued: its block is shaded at once, and the lanes it drops
+  // are cleared from `passed`, so that the caller writes depth only for those kept.
   static void color_block(const Lanes& ln, ShadeQueue& q, const front::TriangleSetup& t,
                           const DrawShading& sh, bool blend, bool ssaa, int S, std::uint32_t* cblk,
-                          int px0, int py0, const std::uint64_t* passed) {
-    const bool queued = sh.function != nullptr;
+                          int px0, int py0, std::uint64_t* passed) {
+    const bool queued = sh.function != nullptr && !sh.discards;
     if (queued && q.shading != &sh) {
       flush(q);
       q.shading = &sh;
@@ -242,9 +279,10 @@ struct ShadeSimd : simd::LaneTypes<A> {
     }
     const F fx_blk(static_cast<float>(px0)), fy_blk(static_cast<float>(py0));
     for (int g = 0; g < kBatches; ++g) {
+      const int shift = g * kShaderBatch;
       std::uint32_t any = 0;
       for (int s = 0; s < S; ++s)
-        any |= static_cast<std::uint32_t>(passed[s] >> (g * kShaderBatch)) & kBatchBits;
+        any |= static_cast<std::uint32_t>(passed[s] >> shift) & kBatchBits;
       if (!any) continue;
       if (queued && !ssaa && any != kBatchBits) {
         enqueue_batch(q, ln, t, g, false, S, 0, any, cblk, px0, py0, passed);
@@ -252,10 +290,10 @@ struct ShadeSimd : simd::LaneTypes<A> {
       }
       if (queued && !ssaa) flush(q);
       I pixel[kBatchVectors];
-      if (!ssaa) batch_colors(ln, t, sh, g, fx_blk, fy_blk, F(0.5f), F(0.5f), any, pixel);
+      std::uint32_t dropped = 0;  // pixels (MSAA) the shader discarded
+      if (!ssaa) dropped = batch_colors(ln, t, sh, g, fx_blk, fy_blk, F(0.5f), F(0.5f), any, pixel);
       for (int s = 0; s < S; ++s) {
-        const std::uint32_t bits =
-            static_cast<std::uint32_t>(passed[s] >> (g * kShaderBatch)) & kBatchBits;
+        std::uint32_t bits = static_cast<std::uint32_t>(passed[s] >> shift) & kBatchBits;
         if (!bits) continue;
         if (queued && ssaa) {
           if (bits != kBatchBits) {
@@ -265,7 +303,12 @@ struct ShadeSimd : simd::LaneTypes<A> {
           flush(q);
         }
         I sample[kBatchVectors];
-        if (ssaa) batch_colors(ln, t, sh, g, fx_blk, fy_blk, ln.ox[s], ln.oy[s], bits, sample);
+        if (ssaa)
+          dropped = batch_colors(ln, t, sh, g, fx_blk, fy_blk, ln.ox[s], ln.oy[s], bits, sample);
+        if (dropped) {
+          passed[s] &= ~(std::uint64_t{dropped} << shift);
+          bits &= ~dropped;
+        }
         const I* color = ssaa ? sample : pixel;
         for (int j = 0; j < kBatchVectors; ++j) {
           const std::uint32_t lanes = (bits >> (j * L)) & kLaneBits;

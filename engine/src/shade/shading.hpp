@@ -18,7 +18,8 @@
 namespace mosaic::shade {
 
 // The tile kernels store and load whole SIMD vectors (up to 64 bytes) in a batch's arrays.
-static_assert(offsetof(ShaderInput, y) % 64 == 0 && offsetof(ShaderInput, varying) % 64 == 0);
+static_assert(offsetof(ShaderInput, y) % 64 == 0 && offsetof(ShaderInput, varying) % 64 == 0 &&
+              offsetof(ShaderInput, ddx) % 64 == 0 && offsetof(ShaderInput, ddy) % 64 == 0);
 static_assert(offsetof(ShaderOutput, g) % 64 == 0 && offsetof(ShaderOutput, b) % 64 == 0 &&
               offsetof(ShaderOutput, a) % 64 == 0);
 
@@ -26,7 +27,9 @@ static_assert(offsetof(ShaderOutput, g) % 64 == 0 && offsetof(ShaderOutput, b) %
 struct DrawShading {
   ShaderFunction function = nullptr;  ///< nullptr: colour from the setup (flat or vertex colour)
   const void* state = nullptr;
-  int varyings = 0;  ///< varying planes per triangle (Draw::varyings.size())
+  int varyings = 0;          ///< varying planes per triangle (Draw::varyings.size())
+  bool derivatives = false;  ///< the shader reads ShaderInput::ddx and ddy
+  bool discards = false;     ///< the shader may discard: depth is written after it runs
   /// Whether the draw leaves the specialised colour kernels: it has a shader or blends.
   bool generic = false;
 };
@@ -61,13 +64,27 @@ inline float varying_at(const front::TriangleSetup& t, const front::Plane* plane
          q;
 }
 
+/// The derivative of a varying v = P / Q along one axis, from the slopes of its planes there:
+/// (dP - v dQ) / Q, in this order on every path.
+inline float varying_slope(float dp, float dq, float v, float q) { return (dp - v * dq) / q; }
+
+/// All ones if triangle `t` faces the viewer, else 0: ANDed with lane bits,
+/// ShaderInput::front_facing.
+inline std::uint32_t front_lanes(const front::TriangleSetup& t) { return t.back_face() ? 0u : ~0u; }
+
+/// A shader's colour at one pixel or sample: kept (RGBA8), or discarded.
+struct Shaded {
+  Rgba8 color;
+  bool discarded = false;
+};
+
 /// One shader output channel to 8 bits: to_unorm8(v * 255).
 inline std::uint8_t output_to_unorm8(float v) { return front::to_unorm8(v * 255.0f); }
 
 /// The colour of triangle `t` of a generic draw at (x, y), for the reference: the shader run on a
 /// batch whose only active lane is `lane` (the lane the tile kernels give this pixel), or the
-/// setup's colour without a shader.
-Rgba8 shade_one(const front::TriangleSetup& t, const DrawShading& s, const front::Plane* planes,
-                float x, float y, int lane);
+/// setup's colour without a shader; discarded only if the shader declares discards and drops it.
+Shaded shade_one(const front::TriangleSetup& t, const DrawShading& s, const front::Plane* planes,
+                 float x, float y, int lane);
 
 }  // namespace mosaic::shade
