@@ -68,9 +68,10 @@ check_hello_ppm() {
 
 # A PNG file: the signature, an IHDR of the expected size, and more than MIN_BYTES. stb writes a
 # flat 256×256 image in 2.8 KiB and a flat 160×90 one in 0.7 KiB (measured); the examples' images
-# are 9.8 KiB (hello_triangle), 14 KiB (scene_stats, 320×180), 6 KiB (orbit, 160×90) and 1.3 KiB
-# (city_occlusion, 160×90, large flat walls), so the thresholds of 4 KiB, 2 KiB and 1000 bytes
-# tell an image with content from a flat one.
+# are 9.8 KiB (hello_triangle), 14 KiB (scene_stats, 320×180), 6 KiB (orbit, 160×90), 1.3 KiB
+# (city_occlusion, 160×90, large flat walls), 55 KiB and 8.5 KiB (textured, 320×180, trilinear
+# and nearest), so the thresholds of 4 KiB, 2 KiB and 1000 bytes tell an image with content from
+# a flat one.
 check_png() {
   file=$1 width=$2 height=$3 min_bytes=$4
   [ -s "$file" ] || fail "$file was not written"
@@ -137,6 +138,13 @@ cmake)
   grep -q '^pixels that differ: 0 of 14400$' "$work/last-$step.log" ||
     fail "city_occlusion: culling hidden objects changed the image: $(grep differ "$work/last-$step.log")"
   check_png "$work/city.png" 160 90 1000
+  # Textures and a discarding shader: mipmapped and point-sampled floors must differ.
+  quiet "$bin/textured/textured" "$work/textured.png"
+  grep -q '^textured: wrote .* 4 triangles drawn' "$work/last-$step.log" || fail "textured drew no quads"
+  check_png "$work/textured.png" 320 180 4096
+  quiet "$bin/textured/textured" --filter nearest "$work/textured_nearest.png"
+  check_png "$work/textured_nearest.png" 320 180 4096
+  ! cmp -s "$work/textured.png" "$work/textured_nearest.png" || fail "textured: --filter changed nothing"
   # The version file: the examples asked for 0.1 and got it; the next minor version must be
   # refused (before 1.0 a minor release may break the API).
   next=$(echo "$version" | awk -F. '{ printf "%d.%d", $1, $2 + 1 }')
