@@ -23,12 +23,27 @@ TEST(ReportCli, WritesEveryFile) {
   std::filesystem::remove_all(dir);
   ASSERT_EQ(run("report --out " + dir.string() + " --size 160x90 --error-size 96x64 --frames 1"),
             0);
-  for (const char* f :
-       {"report.md", "star-pareto.svg", "zoneplate-pareto.svg", "mesh-pareto.svg",
-        "overlap-pareto.svg", "star-crops.png", "zoneplate-crops.png",
-        "zoneplate-spectrum-ground-truth.png", "zoneplate-spectrum-1x.png",
-        "zoneplate-spectrum-4x-msaa.png", "zoneplate-spectrum-16x-msaa.png",
-        "zoneplate-spectrum-fxaa-on-1x.png", "zoneplate-spectrum-16x-gaussian.png"}) {
+  for (const char* f : {"report.md",
+                        "star-pareto.svg",
+                        "zoneplate-pareto.svg",
+                        "mesh-pareto.svg",
+                        "overlap-pareto.svg",
+                        "star-crops.png",
+                        "zoneplate-crops.png",
+                        "zoneplate-spectrum-ground-truth.png",
+                        "zoneplate-spectrum-1x.png",
+                        "zoneplate-spectrum-4x-msaa.png",
+                        "zoneplate-spectrum-16x-msaa.png",
+                        "zoneplate-spectrum-fxaa-on-1x.png",
+                        "zoneplate-spectrum-16x-gaussian.png",
+                        "texture-ground-truth.png",
+                        "texture-nearest.png",
+                        "texture-trilinear.png",
+                        "texture-spectrum-ground-truth.png",
+                        "texture-spectrum-nearest.png",
+                        "texture-spectrum-bilinear.png",
+                        "texture-spectrum-bilinear-mip.png",
+                        "texture-spectrum-trilinear.png"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
     if (std::filesystem::exists(dir / f)) {
       EXPECT_GT(std::filesystem::file_size(dir / f), 100u) << f;
@@ -48,6 +63,11 @@ TEST(ReportCli, WritesEveryFile) {
     while ((p = s.find(mode, p)) != std::string::npos) ++count, ++p;
     EXPECT_EQ(count, 4u) << mode;
   }
+  // The texture table: one row per filter.
+  EXPECT_NE(s.find("## Texture aliasing"), std::string::npos);
+  for (const char* filter : {"\n| nearest, no mipmaps |", "\n| bilinear, no mipmaps |",
+                             "\n| bilinear, nearest mip level |", "\n| trilinear |"})
+    EXPECT_NE(s.find(filter), std::string::npos) << filter;
   std::ifstream svg(dir / "star-pareto.svg");
   std::stringstream svg_text;
   svg_text << svg.rdbuf();

@@ -15,8 +15,10 @@
 #include <span>
 #include <vector>
 
+#include "mosaic/render_target.hpp"
 #include "mosaic/renderer.hpp"
 #include "mosaic/scene.hpp"
+#include "mosaic/texture.hpp"
 #include "mosaic/types.hpp"
 
 namespace mosaic::quality {
@@ -97,6 +99,21 @@ Scene mesh_scene(int width, int height, std::uint64_t seed = 1);
 /// Overlap and depth: random triangles that interpenetrate (per-vertex depth), for the
 /// supersampled ground truth.
 Scene overlap_scene(int width, int height, std::uint64_t seed = 1);
+
+/// Texture aliasing: a black-and-white checkerboard texture (kTexturePlaneSize texels square,
+/// cells of 8 texels, mipmapped by the library) on a floor seen at a grazing angle, so that the
+/// texture is magnified near the camera and minified to about 3 cells per pixel far away.
+inline constexpr int kTexturePlaneSize = 256;
+/// Grid of the floor's ground truth: kTextureTruthGrid² point samples per pixel.
+inline constexpr int kTextureTruthGrid = 8;
+/// The floor rendered into `target` (at its size and sample count), its texture read with
+/// `sampler`.
+void render_textured_plane(const Sampler& sampler, RenderTarget& target, Renderer& renderer);
+/// The floor's ground truth: the same camera rendered kTextureTruthGrid times larger with
+/// nearest sampling and no mipmaps (point samples of the texture), each pixel the mean of its
+/// kTextureTruthGrid² block: the box filter of the textured floor, up to the error of a regular
+/// 8 × 8 grid on cells that are down to a third of a pixel wide.
+Image textured_plane_truth(int width, int height, Renderer& renderer);
 
 /// An annulus of pixels, the window of aliasing_energy().
 struct Annulus {
