@@ -35,8 +35,9 @@ jobs=${MOSAIC_JOBS:-2}
 # occlusion queries, the stress tool, the soak, a renderer entered from two threads, the hard
 # cases, the vertex stage's blocks), and the seeded race.
 tsan_targets="test_fast_path test_hard_depth test_hard_watertight test_hard_nonfinite test_stress
-  test_shaders test_occlusion test_soak test_api_errors test_vertex_stage tsan_seeded_race mosaic_cli"
-tsan_tests='^(FastPath|HardDepth|HardWatertight|HardNonFinite|Stress[A-Za-z]*|Shader[A-Za-z]*|Occlusion[A-Za-z]*|Soak|ApiErrors|VertexStage|TsanSeededRace)\.'
+  test_shaders test_shader_features test_texture test_occlusion test_soak test_api_errors
+  test_vertex_stage tsan_seeded_race mosaic_cli"
+tsan_tests='^(FastPath|HardDepth|HardWatertight|HardNonFinite|Stress[A-Za-z]*|Shader[A-Za-z]*|Textur[A-Za-z]*|Occlusion[A-Za-z]*|Soak|ApiErrors|VertexStage|TsanSeededRace)\.'
 
 start=$(date +%s)
 cmake --preset asan-ubsan >/dev/null
