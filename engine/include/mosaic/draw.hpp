@@ -32,7 +32,8 @@ struct DrawState {
   /// Whether samples that pass the depth test store the triangle's colour. Off makes a depth-only
   /// draw (an occluder pass): the fast path then runs a kernel that neither shades nor touches
   /// colour memory, and a frame whose draws all have it off keeps no colour at all (see
-  /// RenderTarget::color() for what the image then holds).
+  /// RenderTarget::color() for what the image then holds). Its shader is not run, so a shader
+  /// that discards discards nothing there: an alpha-tested depth-only pass is not supported.
   bool color_write = true;
   CullMode cull = CullMode::kNone;                      ///< which facing triangles to discard
   FrontFace front_face = FrontFace::kCounterClockwise;  ///< the winding that faces the viewer

@@ -93,7 +93,8 @@ struct ShaderUses {
   int varyings = 0;          ///< varyings read: 0 .. varyings - 1
   bool derivatives = false;  ///< reads ShaderInput::ddx and ddy (Fragment::ddx(), sample())
   /// May set ShaderOutput::discard. Such a draw tests depth before shading but writes it after,
-  /// for the lanes kept, and its pixels are shaded block by block rather than packed.
+  /// for the lanes kept, and its pixels are shaded block by block rather than packed. A
+  /// depth-only draw (DrawState::color_write off) runs no shader, so nothing is discarded there.
   bool discards = false;
 };
 
