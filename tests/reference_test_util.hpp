@@ -298,6 +298,37 @@ inline Captured capture(Renderer& renderer, const Frame& frame, RenderTarget& ta
   return out;
 }
 
+/// Every SIMD path this CPU and build can run: available_isas() without the reference.
+inline std::vector<Isa> simd_isas() {
+  std::vector<Isa> v;
+  for (Isa i : available_isas())
+    if (i != Isa::kReference) v.push_back(i);
+  return v;
+}
+
+/// How render_draws() renders.
+struct RenderSetup {
+  int samples = 1;
+  bool ssaa = false;
+  Isa isa = Isa::kReference;
+  int threads = 1;
+  bool painter = false;
+};
+
+/// `draws` rendered into a new width × height target that keeps sample colour and depth, cleared
+/// to `clear`, by a new Renderer: a capture for expect_same().
+inline Captured render_draws(std::span<const Draw> draws, int width, int height,
+                             const RenderSetup& how, Rgba8 clear) {
+  RenderTarget target(width, height, how.samples, TargetOptions{true, true});
+  target.set_clear(clear);
+  Frame frame;
+  frame.draws = draws;
+  frame.ssaa = how.ssaa;
+  frame.painter = how.painter;
+  Renderer r({how.threads, how.isa});
+  return capture(r, frame, target);
+}
+
 /// Bit equality of two captures of the same frame (depth compared as bits, so -0 and NaN
 /// payloads count), with the counters every path shares; `what` names the case in failures.
 inline void expect_same(const Captured& ref, const Captured& fast, const std::string& what) {

@@ -124,12 +124,7 @@ Result render(const TestScene& sc, int w, int h, int samples, Isa isa, int threa
   return mosaic::test::capture(r, frame, target);
 }
 
-std::vector<Isa> simd_isas() {
-  std::vector<Isa> v;
-  for (Isa i : mosaic::available_isas())
-    if (i != Isa::kReference) v.push_back(i);
-  return v;
-}
+using mosaic::test::simd_isas;
 
 using mosaic::test::expect_same;
 

@@ -20,25 +20,13 @@
 namespace mosaic {
 namespace {
 
-std::vector<Isa> simd_isas() {
-  std::vector<Isa> v;
-  for (Isa i : available_isas())
-    if (i != Isa::kReference) v.push_back(i);
-  return v;
-}
+using test::simd_isas;
 
 constexpr Rgba8 kBackground{10, 20, 30, 255};
 
 test::Captured render(std::span<const Draw> draws, int w, int h, int samples, bool ssaa, Isa isa,
                       int threads = 2, bool painter = false) {
-  RenderTarget target(w, h, samples, TargetOptions{true, true});
-  target.set_clear(kBackground);
-  Frame frame;
-  frame.draws = draws;
-  frame.ssaa = ssaa;
-  frame.painter = painter;
-  Renderer r({threads, isa});
-  return test::capture(r, frame, target);
+  return test::render_draws(draws, w, h, {samples, ssaa, isa, threads, painter}, kBackground);
 }
 
 /// Screen-space vertices and one attribute pair (u, v) per vertex.

@@ -30,12 +30,7 @@
 namespace mosaic {
 namespace {
 
-std::vector<Isa> simd_isas() {
-  std::vector<Isa> v;
-  for (Isa i : available_isas())
-    if (i != Isa::kReference) v.push_back(i);
-  return v;
-}
+using test::simd_isas;
 
 using Image = test::Captured;
 
@@ -43,14 +38,7 @@ constexpr Rgba8 kBackground{10, 20, 30, 255};
 
 Image render(std::span<const Draw> draws, int w, int h, int samples, bool ssaa, Isa isa,
              int threads = 2, bool painter = false) {
-  RenderTarget target(w, h, samples, TargetOptions{true, true});
-  target.set_clear(kBackground);
-  Frame frame;
-  frame.draws = draws;
-  frame.ssaa = ssaa;
-  frame.painter = painter;
-  Renderer r({threads, isa});
-  return test::capture(r, frame, target);
+  return test::render_draws(draws, w, h, {samples, ssaa, isa, threads, painter}, kBackground);
 }
 
 using test::expect_same;

@@ -17,12 +17,7 @@
 namespace mosaic {
 namespace {
 
-std::vector<Isa> simd_isas() {
-  std::vector<Isa> v;
-  for (Isa i : available_isas())
-    if (i != Isa::kReference) v.push_back(i);
-  return v;
-}
+using test::simd_isas;
 
 /// A w × h image whose texel (x, y) is (x, y, x + y, 255 - x) (all sizes below 256).
 std::vector<Rgba8> ramp(int w, int h) {
@@ -209,13 +204,7 @@ TEST(Texture, HostileCoordinatesReadATexelAndNeverLeaveTheImage) {
 
 test::Captured render(std::span<const Draw> draws, int w, int h, int samples, Isa isa,
                       int threads = 2, bool ssaa = false) {
-  RenderTarget target(w, h, samples, TargetOptions{true, true});
-  target.set_clear({10, 20, 30, 255});
-  Frame frame;
-  frame.draws = draws;
-  frame.ssaa = ssaa;
-  Renderer r({threads, isa});
-  return test::capture(r, frame, target);
+  return test::render_draws(draws, w, h, {samples, ssaa, isa, threads, false}, {10, 20, 30, 255});
 }
 
 /// A screen-space rectangle [0, w) × [0, h) whose varyings 0, 1 run over [0, u1] × [0, v1].
