@@ -446,11 +446,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             written += static_cast<std::uint64_t>(std::popcount(passed[s]));
             for (std::uint64_t vs = kWrite ? vectors_with_lanes(passed[s]) : 0; vs; vs &= vs - 1) {
               const std::size_t k = static_cast<std::size_t>(s * kVectors + std::countr_zero(vs));
-              const std::uint32_t lanes =
-                  static_cast<std::uint32_t>(passed[s] >> ((k % kVectors) * L) & kLaneBits);
               float* dp = dblk + k * L;
               const F z = depth_at(fx_blk + cx.sx[k], fy_row + cx.sy[k]);
-              xsimd::select(M::floats(lanes), z, F::load_aligned(dp)).store_aligned(dp);
+              xsimd::select(M::floats(lanes_of(passed, k)), z, F::load_aligned(dp))
+                  .store_aligned(dp);
             }
           }
         }
