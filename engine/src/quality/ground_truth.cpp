@@ -9,6 +9,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -177,53 +178,25 @@ Image exact_box_image(const Scene& scene, Rect r) {
   return img;
 }
 
-Image supersampled_image(const Scene& scene, Rect r, Renderer& renderer) {
-  check_rect(scene, r);
-  for (const Mesh& m : scene.meshes) check_mesh(m);
-  constexpr int kGrid = kSupersampleGrid;
-  // Tile edge in pixels: the magnified tile (64 * 64 = 4096 px square) costs 128 MiB of colour
-  // and depth, and stays well under kMaxTargetSize.
+Image magnified_means(Rect r, int grid, const std::function<void(Rect, RenderTarget&)>& render) {
+  // Tile edge in pixels: at a grid of 64 the magnified tile (4096 px square) costs 128 MiB of
+  // colour and depth, and stays well under kMaxTargetSize.
   constexpr int kTile = 64;
-  // 1/256 px units per magnified pixel's 1/256: magnifying by 64 turns a 16.8 coordinate s into
-  // s * 64 / 256 = s / 4 magnified pixels, a multiple of 1/4, exact in float below 2^22.
-  constexpr float kUnitsToMagnified = static_cast<float>(front::kSubpixelOne) / kGrid;
   Image img{r.width, r.height,
             std::vector<double>(static_cast<std::size_t>(r.width) * r.height * 3)};
   for (int ty = r.y; ty < r.y + r.height; ty += kTile) {
     for (int tx = r.x; tx < r.x + r.width; tx += kTile) {
       const int tw = std::min(kTile, r.x + r.width - tx), th = std::min(kTile, r.y + r.height - ty);
-      Scene big;
-      big.width = tw * kGrid;
-      big.height = th * kGrid;
-      big.clear_color = scene.clear_color;
-      big.clear_depth = scene.clear_depth;
-      const std::int64_t ox = std::int64_t{tx} * front::kSubpixelOne;
-      const std::int64_t oy = std::int64_t{ty} * front::kSubpixelOne;
-      for (const Mesh& m : scene.meshes) {
-        Mesh copy = m;
-        for (glm::vec4& p : copy.positions) {
-          // The snapped position, magnified exactly. Triangles reaching past the magnified
-          // guard band (512 px of the original around the tile) are clipped there; the clip
-          // moves their far vertices by under 1/256 magnified px, which tilts an edge by under
-          // 1e-5 px inside the tile: far below kSupersampleBoundPerEdge.
-          const std::int64_t sx = front::snap(p.x) - ox, sy = front::snap(p.y) - oy;
-          p.x = static_cast<float>(sx) / kUnitsToMagnified;
-          p.y = static_cast<float>(sy) / kUnitsToMagnified;
-        }
-        big.meshes.push_back(std::move(copy));
-      }
-      RenderTarget target(big.width, big.height, 1);
-      target.set_clear(big.clear_color, big.clear_depth);
-      const std::vector<Draw> draws = big.draws();
-      renderer.render(Frame{draws, false, false}, target);
+      RenderTarget target(tw * grid, th * grid, 1);
+      render({tx, ty, tw, th}, target);
       const std::span<const Rgba8> px = target.color();
       for (int y = 0; y < th; ++y) {
         for (int x = 0; x < tw; ++x) {
           std::array<std::uint64_t, 3> sum{};
-          for (int sy = 0; sy < kGrid; ++sy) {
-            const std::size_t row = static_cast<std::size_t>(y * kGrid + sy) * big.width;
-            for (int sx = 0; sx < kGrid; ++sx) {
-              const Rgba8 c = px[row + static_cast<std::size_t>(x * kGrid + sx)];
+          for (int sy = 0; sy < grid; ++sy) {
+            const std::size_t row = static_cast<std::size_t>(y * grid + sy) * target.width();
+            for (int sx = 0; sx < grid; ++sx) {
+              const Rgba8 c = px[row + static_cast<std::size_t>(x * grid + sx)];
               sum[0] += c.r;
               sum[1] += c.g;
               sum[2] += c.b;
@@ -231,12 +204,46 @@ Image supersampled_image(const Scene& scene, Rect r, Renderer& renderer) {
           }
           const std::size_t p = static_cast<std::size_t>(ty - r.y + y) * r.width + (tx - r.x + x);
           for (int c = 0; c < 3; ++c)
-            img.rgb[3 * p + c] = static_cast<double>(sum[c]) / (kGrid * kGrid * kMaxChannel);
+            img.rgb[3 * p + c] = static_cast<double>(sum[c]) / (grid * grid * kMaxChannel);
         }
       }
     }
   }
   return img;
+}
+
+Image supersampled_image(const Scene& scene, Rect r, Renderer& renderer) {
+  check_rect(scene, r);
+  for (const Mesh& m : scene.meshes) check_mesh(m);
+  constexpr int kGrid = kSupersampleGrid;
+  // 1/256 px units per magnified pixel's 1/256: magnifying by 64 turns a 16.8 coordinate s into
+  // s * 64 / 256 = s / 4 magnified pixels, a multiple of 1/4, exact in float below 2^22.
+  constexpr float kUnitsToMagnified = static_cast<float>(front::kSubpixelOne) / kGrid;
+  return magnified_means(r, kGrid, [&](Rect tile, RenderTarget& target) {
+    Scene big;
+    big.width = tile.width * kGrid;
+    big.height = tile.height * kGrid;
+    big.clear_color = scene.clear_color;
+    big.clear_depth = scene.clear_depth;
+    const std::int64_t ox = std::int64_t{tile.x} * front::kSubpixelOne;
+    const std::int64_t oy = std::int64_t{tile.y} * front::kSubpixelOne;
+    for (const Mesh& m : scene.meshes) {
+      Mesh copy = m;
+      for (glm::vec4& p : copy.positions) {
+        // The snapped position, magnified exactly. Triangles reaching past the magnified
+        // guard band (512 px of the original around the tile) are clipped there; the clip
+        // moves their far vertices by under 1/256 magnified px, which tilts an edge by under
+        // 1e-5 px inside the tile: far below kSupersampleBoundPerEdge.
+        const std::int64_t sx = front::snap(p.x) - ox, sy = front::snap(p.y) - oy;
+        p.x = static_cast<float>(sx) / kUnitsToMagnified;
+        p.y = static_cast<float>(sy) / kUnitsToMagnified;
+      }
+      big.meshes.push_back(std::move(copy));
+    }
+    target.set_clear(big.clear_color, big.clear_depth);
+    const std::vector<Draw> draws = big.draws();
+    renderer.render(Frame{draws, false, false}, target);
+  });
 }
 
 ErrorStats compare(const Image& truth, const Image& test) {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -67,6 +68,11 @@ inline constexpr double kSupersampleBoundPerEdge =
 /// pixel (edges and intersection lines). Same scene requirements as exact_box_image except that
 /// overlap and per-vertex colour are allowed.
 Image supersampled_image(const Scene& scene, Rect rect, Renderer& renderer);
+
+/// The mechanism of both supersampled ground truths: `rect` in tiles of at most 64 × 64 pixels;
+/// render(tile, target) draws the pixels `tile` magnified `grid` times into `target` (1 sample,
+/// tile.width * grid × tile.height * grid), and each pixel is the mean of its grid × grid block.
+Image magnified_means(Rect rect, int grid, const std::function<void(Rect, RenderTarget&)>& render);
 
 /// Error of `test` against `truth` over every pixel and RGB channel, in units of the full
 /// colour range (1 = 255).

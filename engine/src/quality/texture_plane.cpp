@@ -25,8 +25,6 @@ constexpr float kFovYDegrees = 50.0f;
 // 64 texels per world unit, in copies of a kTexturePlaneSize-texel checkerboard of 8-texel cells.
 constexpr float kTexelsPerUnit = 64.0f;
 constexpr int kCellTexels = 8;
-// Final pixels per side of one ground-truth render (magnified kTextureTruthGrid times).
-constexpr int kTruthTile = 64;
 constexpr Rgba8 kSky{140, 170, 210, 255};
 
 Texture checker_texture() {
@@ -95,26 +93,11 @@ void render_textured_plane(const Sampler& sampler, RenderTarget& target, Rendere
 
 Image textured_plane_truth(int width, int height, Renderer& renderer) {
   constexpr int G = kTextureTruthGrid;
-  Image out{width, height, std::vector<double>(std::size_t(width) * height * 3, 0.0)};
-  for (int ty = 0; ty < height; ty += kTruthTile)
-    for (int tx = 0; tx < width; tx += kTruthTile) {
-      const int tw = std::min(kTruthTile, width - tx), th = std::min(kTruthTile, height - ty);
-      // The whole image magnified G times, placed so that this tile lands in the target.
-      RenderTarget big_target(tw * G, th * G, 1);
-      render_floor(Sampler::nearest(), width, height, {-tx * G, -ty * G, width * G, height * G},
-                   big_target, renderer);
-      const std::span<const Rgba8> big = big_target.color();
-      for (int y = 0; y < th * G; ++y)
-        for (int x = 0; x < tw * G; ++x) {
-          const Rgba8 c = big[std::size_t(y) * std::size_t(tw * G) + std::size_t(x)];
-          double* px = &out.rgb[(std::size_t(ty + y / G) * width + std::size_t(tx + x / G)) * 3];
-          px[0] += c.r;
-          px[1] += c.g;
-          px[2] += c.b;
-        }
-    }
-  for (double& v : out.rgb) v /= 255.0 * G * G;
-  return out;
+  // The whole image magnified G times, placed so that the tile lands in the target.
+  return magnified_means({0, 0, width, height}, G, [&](Rect tile, RenderTarget& target) {
+    render_floor(Sampler::nearest(), width, height,
+                 {-tile.x * G, -tile.y * G, width * G, height * G}, target, renderer);
+  });
 }
 
 }  // namespace mosaic::quality
