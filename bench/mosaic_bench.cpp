@@ -45,9 +45,9 @@
 
 #include "bin/binner.hpp"
 #include "front/front_end.hpp"
+#include "isa_dispatch.hpp"
 #include "mosaic/mosaic.hpp"
 #include "raster/tile.hpp"
-#include "simd/dispatch.hpp"
 
 namespace {
 
@@ -240,8 +240,8 @@ struct StageRig {
                               static_cast<std::size_t>(threads))
                         : nullptr),
         arena(threads),
-        kernel(mosaic::simd::tile_kernel(mosaic::available_isas().back())),
-        front_end(mosaic::simd::front_end(mosaic::available_isas().back())) {
+        kernel(mosaic::dispatch::tile_kernel(mosaic::available_isas().back())),
+        front_end(mosaic::dispatch::front_end(mosaic::available_isas().back())) {
     for (const mosaic::Draw& d : draws) states.push_back(d.state);
     std::vector<std::uint32_t> draw_triangles;
     for (const mosaic::Draw& d : draws) draw_triangles.push_back(mosaic::front::triangle_count(d));

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "front/front_end.hpp"
-#include "simd/dispatch.hpp"
+#include "isa_dispatch.hpp"
 
 namespace mosaic {
 namespace {
@@ -88,7 +88,7 @@ front::VertexCache vertex_cache(Isa isa, const Draw& d, std::uint32_t block,
   records.reserve(n);
   const front::VertexCache cache{records.data(), n};
   std::fill(cache.data, cache.data + n, front::ProjectedVertex{-1, -1, -1, 0xff, -1, ~0u, 0});
-  const front::VertexStage stage = simd::vertex_stage(isa);
+  const front::VertexStage stage = dispatch::vertex_stage(isa);
   EXPECT_NE(stage, nullptr);
   for (std::uint32_t v = 0; v < n; v += block)
     stage(d, kWidth, kHeight, v, std::min(n, v + block), cache);
@@ -102,9 +102,9 @@ void expect_same_into(const Draw& d, front::FrontStats& whole) {
   ASSERT_GE(n, 13u) << "the ranges below need 13 triangles";
   const std::vector<std::pair<std::uint32_t, std::uint32_t>> ranges{
       {0, n}, {1, n}, {0, n - 1}, {3, n - 2}, {5, 6}, {9, 9}, {2, 13}};
-  for (Isa isa : simd::runnable_isas()) {
+  for (Isa isa : dispatch::runnable_isas()) {
     SCOPED_TRACE(to_string(isa));
-    const front::FrontEnd fe = simd::front_end(isa);
+    const front::FrontEnd fe = dispatch::front_end(isa);
     ASSERT_NE(fe, nullptr);
     // Every draw is also set up from the vertex stage's cache (an unindexed draw's vertex of a
     // corner is 3t + k), projected in blocks that end off the lane grid.

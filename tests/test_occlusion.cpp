@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
+#include "isa_dispatch.hpp"
 #include "mosaic/mosaic.hpp"
 #include "occlusion/box_project.hpp"
 #include "reference_test_util.hpp"
-#include "simd/dispatch.hpp"
 
 namespace {
 
@@ -424,9 +424,9 @@ TEST(Occlusion, BoxProjectionIsBitIdenticalOnEverySimdPath) {
   for (const auto* v : {&view, &greater}) {
     std::vector<mosaic::occlusion::Projected> want(boxes.size());
     mosaic::occlusion::project_boxes(boxes.data(), boxes.size(), *v, want.data());
-    for (mosaic::Isa isa : mosaic::simd::runnable_isas()) {
+    for (mosaic::Isa isa : mosaic::dispatch::runnable_isas()) {
       std::vector<mosaic::occlusion::Projected> got(boxes.size());
-      mosaic::simd::box_projector(isa)(boxes.data(), boxes.size(), *v, got.data());
+      mosaic::dispatch::box_projector(isa)(boxes.data(), boxes.size(), *v, got.data());
       for (std::size_t i = 0; i < boxes.size(); ++i) {
         const auto& a = want[i];
         const auto& b = got[i];

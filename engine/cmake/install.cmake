@@ -17,7 +17,7 @@
 # built without would make every internal symbol ABI. A static archive keeps one build of the
 # engine for both uses, and costs the consumer only the three private link dependencies
 # (oneTBB, tinyobjloader, stb), which mosaicConfig.cmake and mosaic.pc find for it. The SIMD
-# kernels (the mosaic_simd OBJECT library) are already inside the archive, so xsimd, which is
+# stages (the mosaic_simd_<isa> OBJECT libraries) are already inside the archive, so xsimd, which is
 # header-only and used nowhere in the public headers, is not needed to link.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)

@@ -26,6 +26,7 @@
 #include "bin/binner.hpp"
 #include "frame_checks.hpp"
 #include "front/front_end.hpp"
+#include "isa_dispatch.hpp"
 #include "mosaic/errors.hpp"
 #include "mosaic/renderer.hpp"
 #include "parallel/stage_edges.hpp"
@@ -33,7 +34,6 @@
 #include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
 #include "reference/reference.hpp"
-#include "simd/dispatch.hpp"
 
 namespace mosaic {
 
@@ -164,7 +164,7 @@ int default_tile_size(int samples) { return raster::tile_size_for(samples); }
 
 std::vector<Isa> available_isas() {
   std::vector<Isa> isas{Isa::kReference};
-  for (Isa isa : simd::runnable_isas()) isas.push_back(isa);
+  for (Isa isa : dispatch::runnable_isas()) isas.push_back(isa);
   return isas;
 }
 
@@ -338,10 +338,10 @@ Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
                        ? options.threads
                        : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (impl_->isa != Isa::kReference) {
-    impl_->kernel = simd::tile_kernel(impl_->isa);
-    if (const front::FrontEnd f = simd::front_end(impl_->isa)) {
+    impl_->kernel = dispatch::tile_kernel(impl_->isa);
+    if (const front::FrontEnd f = dispatch::front_end(impl_->isa)) {
       impl_->front_end = f;
-      impl_->vertex_stage = simd::vertex_stage(impl_->isa);
+      impl_->vertex_stage = dispatch::vertex_stage(impl_->isa);
     }
     // oneTBB caps its workers at the core count; asking an arena for more prints a warning and
     // runs on fewer. Oversubscribing is a legitimate request (determinism tests use 7 threads on

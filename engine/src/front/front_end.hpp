@@ -49,11 +49,12 @@ void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t beg
                    FrontStats& stats, std::vector<Plane>* planes = nullptr, int samples = 0,
                    const VertexCache* vertices = nullptr);
 
-/// A front end with run_front_end()'s signature: the scalar one or a SIMD one (simd/dispatch.hpp).
-using FrontEnd = void (*)(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
-                          std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                          FrontStats& stats, std::vector<Plane>* planes, int samples,
-                          const VertexCache* vertices);
+/// A front end with run_front_end()'s signature: the scalar one or a SIMD one (isa_dispatch.hpp).
+using FrontEndFn = void(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
+                        std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
+                        FrontStats& stats, std::vector<Plane>* planes, int samples,
+                        const VertexCache* vertices);
+using FrontEnd = FrontEndFn*;
 
 /// Vertex fetch: a draw's vertex in window-homogeneous space (pixel x = X / W).
 struct VertexFetch {

@@ -1,6 +1,6 @@
 // front/setup_simd.hpp — the front end with several triangles at once in the double lanes of a
-// SIMD register, written once and compiled per instruction set (simd/front_*.cpp instantiate it
-// with their own compiler flags; simd::front_end() picks one at run time).
+// SIMD register, written once and compiled per instruction set from simd/front_end.cpp, each with
+// its own compiler flags; dispatch::front_end() picks one at run time.
 //
 // Takes and gives exactly what run_front_end() (front/front_end.hpp) does, bit for bit: same
 // TriangleSetups in the same order, same counters. The lanes do the common case: a triangle whose

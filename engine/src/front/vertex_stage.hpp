@@ -93,8 +93,9 @@ inline bool wants_vertex_stage(const Draw& draw) {
 }
 
 /// Projects vertices [begin, end) of `draw` for a width × height target into `cache`, which is
-/// sized for the draw. One per instruction set (simd::vertex_stage()).
-using VertexStage = void (*)(const Draw& draw, int width, int height, std::uint32_t begin,
-                             std::uint32_t end, const VertexCache& cache);
+/// sized for the draw. One per instruction set (isa_dispatch.hpp).
+using VertexStageFn = void(const Draw& draw, int width, int height, std::uint32_t begin,
+                           std::uint32_t end, const VertexCache& cache);
+using VertexStage = VertexStageFn*;
 
 }  // namespace mosaic::front

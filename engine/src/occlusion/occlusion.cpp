@@ -16,10 +16,10 @@
 
 #include "frame_checks.hpp"
 #include "front/front_end.hpp"
+#include "isa_dispatch.hpp"
 #include "mosaic/errors.hpp"
 #include "occlusion/box_project.hpp"
 #include "raster/hiz.hpp"
-#include "simd/dispatch.hpp"
 
 namespace mosaic {
 
@@ -122,9 +122,10 @@ void HierarchicalZ::rects_visible(std::span<const ScreenRect> rects, std::span<c
 namespace {
 
 /// The box projection of the best instruction set this CPU runs, or the scalar one.
-simd::BoxProjector best_box_projector() {
-  const std::vector<Isa> isas = simd::runnable_isas();
-  const simd::BoxProjector simd = isas.empty() ? nullptr : simd::box_projector(isas.back());
+occlusion::BoxProjector best_box_projector() {
+  const std::vector<Isa> isas = dispatch::runnable_isas();
+  const occlusion::BoxProjector simd =
+      isas.empty() ? nullptr : dispatch::box_projector(isas.back());
   return simd ? simd : &occlusion::project_boxes;
 }
 
@@ -141,7 +142,7 @@ void HierarchicalZ::boxes_visible(std::span<const Box> boxes, const glm::mat4& v
                                             " boxes, " + std::to_string(visible.size()) +
                                             " answers and " + std::to_string(bounds.size()) +
                                             " bounds");
-  static const simd::BoxProjector project = best_box_projector();
+  static const occlusion::BoxProjector project = best_box_projector();
   const bool greater = test == DepthTest::kGreater || test == DepthTest::kGreaterEqual;
   const occlusion::BoxView view(view_proj, width_, height_, greater);
   occlusion::Projected projected[kBoxesPerPass];

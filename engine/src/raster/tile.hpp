@@ -145,8 +145,9 @@ struct TileRect {
   int x0 = 0, y0 = 0, width = 0, height = 0;
 };
 
-/// One tile kernel per instruction set; see simd/dispatch.hpp.
-using TileKernel = void (*)(const TileFrame& frame, const TileRect& tile,
-                            std::span<const BinRun> bin, TileScratch& scratch, TileStats& stats);
+/// A tile kernel: one per instruction set, chosen at run time (isa_dispatch.hpp).
+using TileKernelFn = void(const TileFrame& frame, const TileRect& tile, std::span<const BinRun> bin,
+                          TileScratch& scratch, TileStats& stats);
+using TileKernel = TileKernelFn*;
 
 }  // namespace mosaic::raster

@@ -1,5 +1,5 @@
 // raster/tile_kernel.hpp — the tile rasterizer, written once and compiled per instruction set
-// (simd/kernel_*.cpp instantiate it with their own compiler flags).
+// (simd/tile_kernel.cpp, built per instruction set with its own compiler flags).
 //
 // Takes: a tile, its bin and the frame state (raster/tile.hpp). Gives: the tile resolved into
 // the image. For each triangle, in submission order, it walks the 8×8-pixel blocks of the
