@@ -441,6 +441,15 @@ TEST_F(CliTest, ShadeChoosesHowMeshesAreColoured) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("has no vertex normals"), std::string::npos) << r.err;
   EXPECT_EQ(run("render knot --shade shiny --no-out").status, 2);
+  // UVs: the tetrahedron's faces name none; a file whose faces do is shaded by them.
+  const CliRun no_uv = run("render " + obj + " --shade uv");
+  EXPECT_EQ(no_uv.status, 1);
+  EXPECT_NE(no_uv.err.find("has no texture coordinates"), std::string::npos) << no_uv.err;
+  std::ofstream(work_ / "uv.obj") << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+                                     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n";
+  nlohmann::json uv = stats("render uv.obj --size 64x48 --no-out --shade uv");
+  EXPECT_EQ(uv["shade"], "uv");
+  EXPECT_EQ(uv["triangles_drawn"], 2);
 }
 
 TEST_F(CliTest, ExportAndRenderObj) {

@@ -1,7 +1,7 @@
 // Bad input that test_io.cpp, test_api_errors.cpp and test_cli.cpp do not already cover: every
 // truncation of a valid .tris and OBJ file (each either parses or is one kParse error naming the
 // file and line, never a crash), non-finite and absurdly long numbers in colours and coordinates,
-// OBJ face indices past int's range (found here: tinyobjloader's atoi wrapped
+// OBJ face indices past int's range (found here: the OBJ parser once used, whose atoi wrapped
 // 99999999999999999999 to an existing vertex and the face was drawn), and the `mosaic` CLI's
 // exit status and one-line message for each kind of bad file.
 #include <gtest/gtest.h>
@@ -126,7 +126,7 @@ TEST(HardBadInput, NonFiniteAndAbsurdNumbersInTris) {
 }
 
 TEST(HardBadInput, ObjFaceIndicesBeyondIntAreErrorsNotOtherVertices) {
-  // Regression: tinyobjloader read 99999999999999999999 with atoi (undefined on overflow; here
+  // Regression: a parser once used read 99999999999999999999 with atoi (undefined on overflow; here
   // it came back as an existing vertex) and the face was drawn. Each of these must be rejected,
   // naming line 4.
   Scratch s;

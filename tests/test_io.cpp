@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "io/lines.hpp"
+#include "io/numbers.hpp"
 #include "io/read_file.hpp"
 #include "mosaic/mosaic.hpp"
 
@@ -688,6 +690,62 @@ TEST(TrisSave, BadSceneOrPathIsRejectedWithoutLeftovers) {
   EXPECT_EQ(dir.files(), std::vector<std::string>{"taken.tris"});
 }
 
+// The OBJ reader's short-decimal path gives exactly what std::from_chars gives, and declines
+// what it cannot read exactly: more than 2^24 in its digits, or more than 10 after the point.
+TEST(Numbers, ShortDecimalsReadAsFromCharsDoes) {
+  const auto from_chars = [](const std::string& w) {
+    float v = 0;
+    const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), v);
+    EXPECT_TRUE(ec == std::errc() && end == w.data() + w.size()) << w;
+    return v;
+  };
+  const auto bits = [](float v) {
+    std::uint32_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  };
+  // m / 10^k written out with k digits after the point (k = 0: no point).
+  const auto decimal = [](bool negative, std::uint32_t m, int k) {
+    std::string d = std::to_string(m);
+    if (k > 0) {
+      if (d.size() <= static_cast<std::size_t>(k))
+        d.insert(0, static_cast<std::size_t>(k) + 1 - d.size(), '0');
+      d.insert(d.size() - static_cast<std::size_t>(k), 1, '.');
+    }
+    std::string out(negative ? 1 : 0, '-');
+    return out.append(d);
+  };
+  std::mt19937 rng(20261203);
+  constexpr std::uint32_t kMaxExact = 1u << 24;
+  int read = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const std::uint32_t m = i < 8 ? kMaxExact - 4 + static_cast<std::uint32_t>(i)
+                                  : static_cast<std::uint32_t>(rng() % (kMaxExact + 2));
+    const int k = static_cast<int>(rng() % 12);
+    const std::string w = decimal(rng() % 2 == 0, m, k);
+    float v = 0;
+    const bool fast = io::read_short_decimal(w, v);
+    EXPECT_EQ(fast, m <= kMaxExact && k <= 10) << w;
+    if (fast) {
+      ASSERT_EQ(bits(v), bits(from_chars(w))) << w;
+      ++read;
+    }
+  }
+  EXPECT_GT(read, 100000);
+  // Forms it leaves to from_chars, and the edges it takes.
+  float v = 0;
+  for (const char* w : {"", "-", ".", "1e5", "+1", "1.2.3", "0x1", "nan", "inf", "1,5", "--1"})
+    EXPECT_FALSE(io::read_short_decimal(w, v)) << w;
+  ASSERT_TRUE(io::read_short_decimal("-0.000000", v));
+  EXPECT_EQ(bits(v), bits(-0.0f));
+  ASSERT_TRUE(io::read_short_decimal("16777216", v));
+  EXPECT_EQ(v, 16777216.0f);
+  EXPECT_FALSE(io::read_short_decimal("16777217", v));
+  ASSERT_TRUE(io::read_short_decimal("0.0000000001", v));
+  EXPECT_EQ(bits(v), bits(from_chars("0.0000000001")));
+  EXPECT_FALSE(io::read_short_decimal("0.00000000001", v));
+}
+
 // ---- OBJ ----
 
 TEST(Obj, CubeFixtureIsFannedFramedAndShaded) {
@@ -698,9 +756,13 @@ TEST(Obj, CubeFixtureIsFannedFramedAndShaded) {
   ASSERT_EQ(s.meshes.size(), 1u);
   const Mesh& m = s.meshes[0];
   EXPECT_EQ(m.space, Space::kClip);
-  EXPECT_EQ(m.color_source, ColorSource::kPerVertex);
+  EXPECT_EQ(m.color_source, ColorSource::kPerTriangle);
   EXPECT_EQ(s.triangle_count(), 12u);  // six quads, two triangles each
+  // No normals in the file: each triangle has its face normal on three vertices of its own, in
+  // order, so the mesh needs no indices.
   ASSERT_EQ(m.positions.size(), 36u);
+  EXPECT_TRUE(m.indices.empty());
+  EXPECT_TRUE(m.uvs.empty());
   // Framed: every vertex in the view volume, depth in [0, 1], and the cube is not tiny.
   float reach = 0;
   for (const glm::vec4& p : m.positions) {
@@ -712,15 +774,14 @@ TEST(Obj, CubeFixtureIsFannedFramedAndShaded) {
     reach = std::max({reach, std::fabs(p.x / p.w), std::fabs(p.y / p.w)});
   }
   EXPECT_GT(reach, 0.4f);
-  // Normal shading: flat per face, and the two triangles of a face agree; faces differ.
+  // Normal shading: one colour per triangle, the two triangles of a face agree; faces differ.
+  ASSERT_EQ(m.colors.size(), 12u);
   std::vector<std::uint32_t> face_colors;
   for (std::size_t t = 0; t < 12; ++t) {
-    EXPECT_EQ(m.colors[3 * t], m.colors[3 * t + 1]);
-    EXPECT_EQ(m.colors[3 * t], m.colors[3 * t + 2]);
-    const Rgba8 c = m.colors[3 * t];
+    const Rgba8 c = m.colors[t];
     face_colors.push_back(std::uint32_t{c.r} << 16 | c.g << 8 | c.b);
     if (t % 2 == 1) {
-      EXPECT_EQ(m.colors[3 * t], m.colors[3 * t - 3]) << "face " << t / 2;
+      EXPECT_EQ(m.colors[t], m.colors[t - 1]) << "face " << t / 2;
     }
   }
   std::sort(face_colors.begin(), face_colors.end());
@@ -819,6 +880,171 @@ TEST(Obj, ShadingByNormalsDrawsThemPerPixel) {
   EXPECT_NO_THROW(bare.draw(Shading::kFlat, s.light));
 }
 
+// The same mesh without indices: every triangle's corners copied out, attributes too.
+Mesh expanded(const Mesh& m) {
+  Mesh out = m;
+  out.indices.clear();
+  out.positions.clear();
+  out.normals.clear();
+  out.uvs.clear();
+  if (m.color_source == ColorSource::kPerVertex) out.colors.clear();
+  for (const std::uint32_t i : m.indices) {
+    out.positions.push_back(m.positions[i]);
+    out.normals.push_back(m.normals[i]);
+    if (!m.uvs.empty()) out.uvs.push_back(m.uvs[i]);
+    if (m.color_source == ColorSource::kPerVertex) out.colors.push_back(m.colors[i]);
+  }
+  return out;
+}
+
+// An n x n grid of vertices on a bumpy sheet with a normal and a UV each, its quads as faces
+// v/t/n, and `extra` appended.
+std::string smooth_grid(int n, const std::string& extra = "") {
+  std::string t;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      t += "v " + std::to_string(i) + " " + std::to_string(j) + " " +
+           std::to_string((i * j) % 3 * 0.25) + "\n";
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      t += "vn " + std::to_string(0.1 * i) + " " + std::to_string(0.1 * j) + " 1\n";
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      t += "vt " + std::to_string(i / double(n - 1)) + " " + std::to_string(j / double(n - 1)) +
+           "\n";
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = j * n + i + 1;
+      t += "f";
+      for (const int v : {a, a + 1, a + n + 1, a + n})
+        t.append(" ")
+            .append(std::to_string(v))
+            .append("/")
+            .append(std::to_string(v))
+            .append("/")
+            .append(std::to_string(v));
+      t += "\n";
+    }
+  return t + extra;
+}
+
+TEST(Obj, SmoothMeshesAreIndexedOneVertexPerDistinctCorner) {
+  TempDir dir;
+  constexpr int kN = 12;
+  write_text(dir / "g.obj", smooth_grid(kN));
+  const Scene s = load_obj(dir / "g.obj", 96, 64);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const Mesh& m = s.meshes[0];
+  EXPECT_TRUE(s.warnings.empty());
+  EXPECT_EQ(s.triangle_count(), 2u * (kN - 1) * (kN - 1));
+  // Every file vertex is one mesh vertex: its corners all name the same normal and UV.
+  EXPECT_EQ(m.positions.size(), std::size_t{kN * kN});
+  EXPECT_EQ(m.indices.size(), 6u * (kN - 1) * (kN - 1));
+  EXPECT_EQ(m.normals.size(), m.positions.size());
+  ASSERT_EQ(m.uvs.size(), m.positions.size());
+  EXPECT_EQ(m.color_source, ColorSource::kPerTriangle);
+  EXPECT_EQ(m.colors.size(), s.triangle_count());
+  // The first face's corners, in file order: vertices 1, 2, 2 + n of the file.
+  EXPECT_EQ(m.uvs[m.indices[0]], glm::vec2(0, 0));
+  EXPECT_NEAR(m.uvs[m.indices[1]].x, 1.0 / (kN - 1), 1e-6);  // printed with six decimals
+  EXPECT_EQ(m.uvs[m.indices[1]].y, 0.0f);
+  EXPECT_EQ(m.normals[m.indices[1]], glm::vec3(0.1f, 0, 1));
+
+  // Drawn indexed (through the vertex stage where it applies) or expanded, lit or by UV, the
+  // image is the same on every path.
+  const Mesh flat = expanded(m);
+  for (const Shading shading : {Shading::kLambert, Shading::kUv, Shading::kFlat})
+    for (const Isa isa : {Isa::kReference, Isa::kAuto}) {
+      std::uint64_t hashes[2];
+      FrameStats stats[2];
+      for (int k = 0; k < 2; ++k) {
+        Renderer renderer({2, isa});
+        RenderTarget target(96, 64, 4);
+        target.set_clear(s.clear_color, s.clear_depth);
+        const Draw d = (k == 0 ? m : flat).draw(shading, s.light);
+        stats[k] = renderer.render(Frame{{&d, 1}}, target);
+        hashes[k] = target.image_hash();
+      }
+      EXPECT_EQ(hashes[0], hashes[1]) << int(shading) << " " << int(isa);
+      EXPECT_GT(stats[0].samples_written, 1000u);
+      EXPECT_EQ(stats[0].samples_written, stats[1].samples_written);
+    }
+
+  // A position whose corners name two normals is two vertices; a face without normals has its
+  // face normal on three of its own, and corners without UVs leave the mesh without them.
+  write_text(dir / "mixed.obj",
+             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nvn 0 1 0\nvt 0 0\n"
+             "f 1//1 2//1 3//1\nf 2//2 4//2 3//1\nf 1 3/1 4\n");
+  const Scene mixed = load_obj(dir / "mixed.obj", 64, 64);
+  const Mesh& x = mixed.meshes[0];
+  EXPECT_EQ(x.indices, (std::vector<std::uint32_t>{0, 1, 2, 3, 4, 2, 5, 6, 7}));
+  ASSERT_EQ(x.positions.size(), 8u);
+  EXPECT_EQ(x.positions[3], x.positions[1]);  // file vertex 2, with normal 1 and with normal 2
+  EXPECT_EQ(x.normals[1], glm::vec3(0, 0, 1));
+  EXPECT_EQ(x.normals[3], glm::vec3(0, 1, 0));
+  EXPECT_TRUE(x.uvs.empty());
+  // The face normal cross(b - a, c - a) of (0,0,0), (0,1,0), (1,1,0).
+  EXPECT_EQ(x.normals[5], glm::vec3(0, 0, -1));
+  EXPECT_EQ(x.normals[7], glm::vec3(0, 0, -1));
+}
+
+TEST(Obj, LargePolygonsCommentsAndOtherStatementsAreRead) {
+  TempDir dir;
+  // A 300-gon (a regular polygon, fanned into 298 triangles), with comments and statements the
+  // loader ignores.
+  std::string t = "# a polygon\no poly\ng group\ns 1\nmtllib none.mtl\nusemtl none\n";
+  constexpr int kSides = 300;
+  for (int i = 0; i < kSides; ++i) {
+    const double a = 2 * 3.14159265358979 * i / kSides;
+    t += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 0  # corner\n";
+  }
+  t += "f";
+  for (int i = 1; i <= kSides; ++i) t.append("\t").append(std::to_string(i));
+  write_text(dir / "p.obj", t + "\r\n");
+  const Scene s = load_obj(dir / "p.obj", 64, 64);
+  EXPECT_EQ(s.triangle_count(), std::size_t{kSides - 2});
+  EXPECT_TRUE(s.warnings.empty());
+  Renderer renderer({1, Isa::kReference});
+  RenderTarget target(64, 64);
+  const std::vector<Draw> draws = s.draws(Shading::kFlat);
+  const FrameStats stats = renderer.render(Frame{draws}, target);
+  EXPECT_EQ(stats.triangles_in, std::size_t{kSides - 2});
+  EXPECT_GT(stats.samples_written, 64u * 64u / 3);  // the disc, less its thinnest fan slices
+}
+
+TEST(Obj, UvsAreShownByTheUvShading) {
+  TempDir dir;
+  // A quad facing the camera's general direction with u across and v up.
+  write_text(dir / "q.obj",
+             "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+             "f 1/1 2/2 3/3 4/4\n");
+  const Scene s = load_obj(dir / "q.obj", 64, 64);
+  ASSERT_TRUE(s.has_uvs());
+  EXPECT_EQ(s.meshes[0].uvs.size(), s.meshes[0].positions.size());
+  for (const Isa isa : {Isa::kReference, Isa::kAuto}) {
+    Renderer renderer({1, isa});
+    RenderTarget target(64, 64);
+    target.set_clear(s.clear_color);
+    const std::vector<Draw> draws = s.draws(Shading::kUv);
+    ASSERT_EQ(draws[0].varyings.size(), 2u);
+    renderer.render(Frame{draws}, target);
+    // The centre of the quad is u = v = 0.5; blue is 0 everywhere on it.
+    const Rgba8 c = target.pixel(32, 32);
+    EXPECT_NEAR(c.r, 128, 24);
+    EXPECT_NEAR(c.g, 128, 24);
+    EXPECT_EQ(c.b, 0);
+  }
+  // A corner naming a texture coordinate that does not exist: no UVs, with a warning.
+  write_text(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n");
+  const Scene b = load_obj(dir / "bad.obj", 64, 64);
+  EXPECT_FALSE(b.has_uvs());
+  ASSERT_EQ(b.warnings.size(), 1u);
+  EXPECT_NE(b.warnings[0].find("bad.obj:5: 1 face corner names a texture coordinate"),
+            std::string::npos)
+      << b.warnings[0];
+  EXPECT_THROW(b.meshes[0].draw(Shading::kUv, b.light), Error);
+}
+
 TEST(Obj, ErrorsNameTheFileAndLine) {
   TempDir dir;
   struct Case {
@@ -842,15 +1068,17 @@ TEST(Obj, ErrorsNameTheFileAndLine) {
       {"no faces", tri, Errc::kParse, ": "},
       {"only a two-vertex face", tri + "f 1 2\n", Errc::kParse, ": "},
       {"empty file", "", Errc::kParse, ": "},
-      {"a face of 256 vertices",
-       [] {
-         std::string t;
-         for (int i = 0; i < 256; ++i) t.append("v ").append(std::to_string(i)).append(" 0 0\n");
-         t.append("f");
-         for (int i = 1; i <= 256; ++i) t.append(" ").append(std::to_string(i));
-         return t.append("\n");
-       }(),
-       Errc::kParse, ":257: a face of 256 vertices"},
+      {"a vertex with five values", "v 0 0 0 1 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Errc::kParse,
+       ":1: a vertex needs 3, 4, 6 or 7 values"},
+      {"a vertex with eight values", tri + "v 0 0 0 1 1 1 1 1\nf 1 2 3\n", Errc::kParse,
+       ":4: a vertex has at most 7 values"},
+      {"a normal with two values", tri + "vn 0 1\nf 1//1 2//1 3//1\n", Errc::kParse, ":4: "},
+      {"a malformed normal", tri + "vn 0 1 x\n" + "f 1 2 3\n", Errc::kParse, ":4: "},
+      {"a texture coordinate with four values", tri + "vt 0 0 0 0\nf 1/1 2/1 3/1\n", Errc::kParse,
+       ":4: "},
+      {"a corner with an empty normal", tri + "f 1// 2 3\n", Errc::kParse, ":4: "},
+      {"a relative normal before the first", tri + "vn 0 0 1\nf 1//-2 2//1 3//1\n", Errc::kParse,
+       ":5: "},
   };
   for (const Case& c : cases) {
     const fs::path p = dir / "bad.obj";

@@ -4,7 +4,6 @@
 find_package(TBB REQUIRED)               # libtbb-dev
 find_package(xsimd REQUIRED)             # libxsimd-dev
 find_package(glm REQUIRED)               # libglm-dev
-find_package(tinyobjloader REQUIRED)     # libtinyobjloader-dev
 find_package(CLI11 REQUIRED)             # libcli11-dev
 find_package(nlohmann_json REQUIRED)     # nlohmann-json3-dev
 find_package(PkgConfig REQUIRED)

@@ -12,7 +12,6 @@ packages=(
   libbenchmark-dev      # Google Benchmark: bench/
   libgtest-dev          # GoogleTest: tests/
   libstb-dev            # stb_image_write: PNG output
-  libtinyobjloader-dev  # tinyobjloader: Wavefront OBJ input
   libcli11-dev          # CLI11: command-line parsing
   nlohmann-json3-dev    # nlohmann/json: --stats and report JSON
   libegl-dev            # EGL headers: the llvmpipe peer (bench/peers/llvmpipe) runs surfaceless

@@ -65,8 +65,10 @@ const std::map<std::string, CullMode>& cull_modes() {
 }
 
 const std::map<std::string, Shading>& shadings() {
-  static const std::map<std::string, Shading> shadings = {
-      {"flat", Shading::kFlat}, {"normals", Shading::kNormals}, {"lambert", Shading::kLambert}};
+  static const std::map<std::string, Shading> shadings = {{"flat", Shading::kFlat},
+                                                          {"normals", Shading::kNormals},
+                                                          {"lambert", Shading::kLambert},
+                                                          {"uv", Shading::kUv}};
   return shadings;
 }
 
@@ -183,7 +185,10 @@ int run_render(const RenderOptions& o) {
   }
   if (o.depth_only) scene.for_each_state([](DrawState& s) { s.color_write = false; });
   const Shading shading = o.shade.empty() ? scene.default_shading : shadings().at(o.shade);
-  if (shading != Shading::kFlat && !scene.has_normals())
+  if (shading == Shading::kUv && !scene.has_uvs())
+    throw Error(Errc::kInvalidArgument,
+                "--shade uv: scene '" + name + "' has no texture coordinates");
+  if ((shading == Shading::kNormals || shading == Shading::kLambert) && !scene.has_normals())
     throw Error(Errc::kInvalidArgument,
                 "--shade " + o.shade + ": scene '" + name + "' has no vertex normals");
 
@@ -318,7 +323,8 @@ Command add_render_command(CLI::App& parent) {
                 "colour)");
   app->add_option("--shade", o->shade,
                   "How meshes are coloured: flat (their colours), normals (vertex normals as "
-                  "colours) or lambert (the normals lit per pixel). Default: lambert for an OBJ "
+                  "colours), lambert (the normals lit per pixel) or uv (texture coordinates as "
+                  "colours, for an OBJ file whose faces name them). Default: lambert for an OBJ "
                   "file without vertex colours, flat otherwise")
       ->check(CLI::IsMember(keys_of(shadings())));
   app->add_flag("--reserve", o->reserve,

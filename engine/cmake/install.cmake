@@ -15,8 +15,8 @@
 # benchmarks and tools of this repository link the engine's internal stages (front/, raster/,
 # reference/) directly; a shared library built with hidden visibility would hide them, and one
 # built without would make every internal symbol ABI. A static archive keeps one build of the
-# engine for both uses, and costs the consumer only the three private link dependencies
-# (oneTBB, tinyobjloader, stb), which mosaicConfig.cmake and mosaic.pc find for it. The SIMD
+# engine for both uses, and costs the consumer only the two private link dependencies
+# (oneTBB, stb), which mosaicConfig.cmake and mosaic.pc find for it. The SIMD
 # stages (the mosaic_simd_<isa> OBJECT libraries) are already inside the archive, so xsimd, which is
 # header-only and used nowhere in the public headers, is not needed to link.
 include(GNUInstallDirs)

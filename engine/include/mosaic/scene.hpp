@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 #include <string>
@@ -20,9 +21,9 @@
 
 namespace mosaic {
 
-/// How a Scene's meshes are coloured (the CLI's --shade): from their colours, or per pixel from
-/// their vertex normals, shown as colours or lit.
-enum class Shading { kFlat, kNormals, kLambert };
+/// How a Scene's meshes are coloured (the CLI's --shade): from their colours, per pixel from
+/// their vertex normals, shown as colours or lit, or from their texture coordinates.
+enum class Shading { kFlat, kNormals, kLambert, kUv };
 
 /// One owned draw: the buffers a Draw points at, plus its state. The fields mean what the
 /// Draw fields of the same names mean.
@@ -36,14 +37,17 @@ struct Mesh {
   /// One per position, or empty: vertex normals (any length) in the space of the scene's light
   /// (Scene::light), which for a clip-space mesh is the space before Camera::view_projection.
   std::vector<glm::vec3> normals;
+  /// One per position, or empty: texture coordinates (u, v), as Shading::kUv shows them.
+  std::vector<glm::vec2> uvs;
   DrawState state;  ///< depth test and write, culling, fill rule
 
   /// A Draw viewing this mesh's buffers (valid while the mesh lives and is not modified),
   /// coloured from color_source.
   Draw draw() const;
   /// The same Draw coloured by `shading`: kFlat is draw(); kNormals and kLambert read `normals`
-  /// as varyings 0..2 through normal_color_shader() or lambert_shader(light). Throws
-  /// Error{kInvalidArgument} for kNormals or kLambert when the mesh has no normals.
+  /// as varyings 0..2 through normal_color_shader() or lambert_shader(light), and kUv reads
+  /// `uvs` as varyings 0..1 through uv_color_shader(). Throws Error{kInvalidArgument} when the
+  /// mesh lacks the normals or UVs the shading reads.
   Draw draw(Shading shading, const Lambert& light) const;
   /// Triangles the mesh submits: indices / 3, or positions / 3 without indices.
   std::size_t triangle_count() const;
@@ -82,6 +86,8 @@ struct Scene {
   std::vector<Draw> draws(Shading shading) const;
   /// Whether every mesh has normals, so that draws(kNormals or kLambert) succeeds.
   bool has_normals() const;
+  /// Whether every mesh has UVs, so that draws(kUv) succeeds.
+  bool has_uvs() const;
   /// Triangles submitted by all meshes.
   std::size_t triangle_count() const;
   /// Sets every mesh's state with `f(DrawState&)`, e.g. to apply command-line options.

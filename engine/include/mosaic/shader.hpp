@@ -238,6 +238,10 @@ Shader vertex_color_shader();
 /// (a zero normal is grey): for looking at a mesh's normals.
 Shader normal_color_shader();
 
+/// Built-in: the texture coordinates in varyings 0..1 as a colour, rgb = (fract(u), fract(v), 0),
+/// alpha 1: for looking at a mesh's UVs (a repeating texture's tiles show as ramps).
+Shader uv_color_shader();
+
 /// Parameters of lambert_shader().
 struct Lambert {
   glm::vec3 light_dir{0.0f, 0.0f, 1.0f};  ///< towards the light, in the normals' space; normalised

@@ -5,6 +5,7 @@
 // thrown before the loader looks at it, so no line's work grows without bound.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -14,18 +15,21 @@
 namespace mosaic::io {
 
 /// The longest line of a scene file: 1 MiB. A .tris `tri` line needs about 300 bytes and an OBJ
-/// face of the 255 vertices tinyobjloader reads about 9 KB; anything near the bound is garbage.
+/// face of 255 vertices about 9 KB; anything near the bound is garbage.
 inline constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
 
 class LineReader {
  public:
-  LineReader(std::string_view text, const std::string& file) : text_(text), file_(file) {}
+  LineReader(std::string_view text, const std::string& file)
+      : text_(text), file_(file), has_cr_(text.find('\r') != std::string_view::npos) {}
 
   /// The next line in `line` (without its end), or false at the end of the text.
   bool next(std::string_view& line) {
     if (pos_ >= text_.size()) return false;
-    std::size_t eol = text_.find_first_of("\r\n", pos_);
-    if (eol == std::string_view::npos) eol = text_.size();
+    // The LF, then a CR before it if the text has any (find_first_of would look each byte up
+    // in the set with a call of its own).
+    std::size_t eol = std::min(text_.find('\n', pos_), text_.size());
+    if (has_cr_) eol = std::min(text_.substr(0, eol).find('\r', pos_), eol);
     ++line_no_;
     if (eol - pos_ > kMaxLineBytes)
       throw Error(Errc::kParse, file_ + ":" + std::to_string(line_no_) + ": a line of " +
@@ -41,6 +45,7 @@ class LineReader {
  private:
   std::string_view text_;
   const std::string& file_;
+  bool has_cr_;  ///< whether any line ends in a CR (CR LF, or a CR alone)
   std::size_t pos_ = 0, line_no_ = 0;
 };
 

@@ -26,6 +26,17 @@ Draw Mesh::draw() const {
 Draw Mesh::draw(Shading shading, const Lambert& light) const {
   Draw d = draw();
   if (shading == Shading::kFlat) return d;
+  if (shading == Shading::kUv) {
+    if (uvs.empty())
+      throw Error(Errc::kInvalidArgument, "a mesh without UVs cannot be shaded by them");
+    static_assert(sizeof(glm::vec2) == 2 * sizeof(float), "UVs are read as 2 floats each");
+    static constexpr std::uint32_t kUvVaryings[] = {0, 1};
+    d.attributes = {&uvs[0].x, 2 * uvs.size()};
+    d.attribute_count = 2;
+    d.varyings = kUvVaryings;
+    d.shader = uv_color_shader();
+    return d;
+  }
   if (normals.empty())
     throw Error(Errc::kInvalidArgument, "a mesh without normals cannot be shaded by them");
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "normals are read as 3 floats each");
@@ -58,6 +69,12 @@ std::vector<Draw> Scene::draws(Shading shading) const {
 bool Scene::has_normals() const {
   for (const Mesh& m : meshes)
     if (m.normals.empty()) return false;
+  return true;
+}
+
+bool Scene::has_uvs() const {
+  for (const Mesh& m : meshes)
+    if (m.uvs.empty()) return false;
   return true;
 }
 

@@ -27,6 +27,15 @@ Shader normal_color_shader() {
       3);
 }
 
+Shader uv_color_shader() {
+  return make_shader(
+      [](const Fragment& f) {
+        const float u = f.varying(0), v = f.varying(1);
+        return glm::vec4(u - std::floor(u), v - std::floor(v), 0.0f, 1.0f);
+      },
+      2);
+}
+
 Shader lambert_shader(const Lambert& params) {
   // The light is normalised once, in double, so that every pixel divides nothing but the normal.
   const double lx = params.light_dir.x, ly = params.light_dir.y, lz = params.light_dir.z;
