@@ -7,10 +7,12 @@
 // bar on stderr, and the frame rate of the renderer alone and of the whole loop on stdout.
 //
 // Without an OBJ file the mesh is a procedural (2,3) torus knot with smooth normals; an OBJ file
-// is read with mosaic::load_obj, taken back to model space through Scene::camera, and lit with
-// its face normals. The normals are vertex attributes, interpolated perspective-correctly per
-// pixel, and lit by the built-in Lambert shader (mosaic::lambert_shader), whose light moves
-// with the camera. Uses only the public API (mosaic.hpp).
+// is read with mosaic::load_obj (indexed, with the file's normals, or face normals where it has
+// none) and its positions taken back to model space through Scene::camera. Either is a
+// mosaic::Mesh drawn as `mosaic render` draws one, through Mesh::draw(Shading::kLambert, light):
+// the normals are vertex attributes, interpolated perspective-correctly per pixel and lit by the
+// built-in Lambert shader, whose light moves with the camera. Only the positions differ: model
+// space, with the orbiting camera as the draw's transform. Uses only the public API.
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -70,11 +72,11 @@ constexpr mosaic::Rgba8 kBackground{20, 22, 30, 255};
 /// Width of the progress bar in characters.
 constexpr int kBarWidth = 30;
 
-/// A mesh in model space with a unit normal per vertex.
+/// A lit mesh: its normals, indices and state in a mosaic::Mesh (whose clip-space positions
+/// stay empty), and its positions in model space, drawn through the orbiting camera.
 struct LitMesh {
+  mosaic::Mesh mesh;
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;
-  std::vector<std::uint32_t> indices;  ///< empty: vertices 0,1,2, 3,4,5, …
   glm::dvec3 albedo{1.0};
   /// Lit from both sides (|n·l|) and not culled: OBJ files disagree on winding.
   bool two_sided = false;
@@ -99,10 +101,12 @@ glm::dvec3 knot_tangent(double t) {
 /// enough that T is never parallel to y, so the frame never flips. The normal of a tube is
 /// exact: the unit offset from the curve.
 LitMesh torus_knot() {
-  LitMesh m;
-  m.albedo = kKnotAlbedo;
-  m.positions.reserve(static_cast<std::size_t>(kKnotSegments) * kKnotSides);
-  m.normals.reserve(m.positions.capacity());
+  LitMesh lit;
+  lit.albedo = kKnotAlbedo;
+  std::vector<glm::vec3>& positions = lit.positions;
+  mosaic::Mesh& m = lit.mesh;
+  positions.reserve(static_cast<std::size_t>(kKnotSegments) * kKnotSides);
+  m.normals.reserve(positions.capacity());
   for (int i = 0; i < kKnotSegments; ++i) {
     const double t = 2.0 * kPi * i / kKnotSegments;
     const glm::dvec3 c = knot_point(t), tangent = glm::normalize(knot_tangent(t));
@@ -111,7 +115,7 @@ LitMesh torus_knot() {
     for (int j = 0; j < kKnotSides; ++j) {
       const double v = 2.0 * kPi * j / kKnotSides;
       const glm::dvec3 normal = std::cos(v) * n + std::sin(v) * b;
-      m.positions.emplace_back(c + kKnotTube * normal);
+      positions.emplace_back(c + kKnotTube * normal);
       m.normals.emplace_back(normal);
     }
   }
@@ -120,8 +124,8 @@ LitMesh torus_knot() {
   };
   // Counter-clockwise seen from outside, so back-face culling keeps the outside: decided on
   // the first quad against its normal (the sign is the same all along the smooth tube).
-  const glm::vec3 e1 = m.positions[at(1, 0)] - m.positions[at(0, 0)];
-  const glm::vec3 e2 = m.positions[at(1, 1)] - m.positions[at(0, 0)];
+  const glm::vec3 e1 = positions[at(1, 0)] - positions[at(0, 0)];
+  const glm::vec3 e2 = positions[at(1, 1)] - positions[at(0, 0)];
   const bool ccw = glm::dot(glm::cross(e1, e2), m.normals[at(0, 0)]) > 0.0f;
   for (int i = 0; i < kKnotSegments; ++i) {
     for (int j = 0; j < kKnotSides; ++j) {
@@ -133,35 +137,26 @@ LitMesh torus_knot() {
       }
     }
   }
-  return m;
+  m.state.cull = mosaic::CullMode::kBack;
+  return lit;
 }
 
-/// An OBJ mesh through mosaic::load_obj: its clip-space positions taken back to model space
-/// with the camera it was framed with, and a face normal on each of a triangle's vertices.
+/// An OBJ mesh through mosaic::load_obj, as `mosaic render` reads it, with its clip-space
+/// positions taken back to model space through the camera it was framed with.
 LitMesh obj_mesh(const fs::path& path) {
-  const mosaic::Scene scene = mosaic::load_obj(path);
+  mosaic::Scene scene = mosaic::load_obj(path);
   const glm::dmat4 to_model = glm::inverse(glm::dmat4(scene.camera.view_projection));
-  LitMesh m;
-  m.albedo = kObjAlbedo;
-  m.two_sided = true;
-  for (const mosaic::Mesh& mesh : scene.meshes) {
-    // load_obj gives three vertices per triangle, without indices.
-    for (std::size_t v = 0; v + 2 < mesh.positions.size(); v += 3) {
-      glm::dvec3 p[3];
-      for (int k = 0; k < 3; ++k) {
-        const glm::dvec4 q = to_model * glm::dvec4(mesh.positions[v + k]);
-        p[k] = glm::dvec3(q) / q.w;
-      }
-      const glm::dvec3 cross = glm::cross(p[1] - p[0], p[2] - p[0]);
-      const double len = glm::length(cross);
-      const glm::dvec3 n = len > 0 ? cross / len : glm::dvec3(0, 0, 1);
-      for (int k = 0; k < 3; ++k) {
-        m.positions.emplace_back(p[k]);
-        m.normals.emplace_back(n);
-      }
-    }
+  LitMesh lit;
+  lit.albedo = kObjAlbedo;
+  lit.two_sided = true;
+  lit.mesh = std::move(scene.meshes.front());  // load_obj gives one mesh
+  for (const glm::vec4& p : lit.mesh.positions) {
+    const glm::dvec4 q = to_model * glm::dvec4(p);
+    lit.positions.emplace_back(glm::dvec3(q) / q.w);
   }
-  return m;
+  lit.mesh.positions.clear();
+  lit.mesh.state.cull = mosaic::CullMode::kNone;
+  return lit;
 }
 
 /// Centre (of the bounding box) and radius of a bounding sphere.
@@ -232,10 +227,10 @@ int main(int argc, char** argv) {
   }
 
   try {
-    const LitMesh mesh = obj_path.empty() ? torus_knot() : obj_mesh(obj_path);
+    const LitMesh lit = obj_path.empty() ? torus_knot() : obj_mesh(obj_path);
     glm::dvec3 centre;
     double radius;
-    bounding_sphere(mesh, centre, radius);
+    bounding_sphere(lit, centre, radius);
 
     // Camera distance: the sphere's half-angle asin(r / d) must fit the narrower half field.
     const double aspect = static_cast<double>(width) / height;
@@ -254,28 +249,17 @@ int main(int argc, char** argv) {
     mosaic::Renderer renderer(options);
     if (images) fs::create_directories(out_dir);
 
-    // The normals as three float attributes per vertex, read by the shader as varyings 0..2.
-    std::vector<float> attributes;
-    attributes.reserve(mesh.normals.size() * 3);
-    for (const glm::vec3& n : mesh.normals) attributes.insert(attributes.end(), {n.x, n.y, n.z});
-    const std::uint32_t normal_varyings[] = {0, 1, 2};
-    mosaic::Draw draw;
-    draw.positions_xyz = mesh.positions;
-    draw.indices = mesh.indices;
-    draw.attributes = attributes;
-    draw.attribute_count = 3;
-    draw.varyings = normal_varyings;
-    draw.state.cull = mesh.two_sided ? mosaic::CullMode::kNone : mosaic::CullMode::kBack;
     mosaic::Lambert lambert;
-    lambert.albedo = glm::vec3(mesh.albedo);
+    lambert.albedo = glm::vec3(lit.albedo);
     lambert.ambient = static_cast<float>(kAmbient);
     lambert.diffuse = static_cast<float>(kDiffuse);
-    lambert.two_sided = mesh.two_sided;
+    lambert.two_sided = lit.two_sided;
+    mosaic::Draw draw;
     mosaic::Frame frame;
     frame.draws = std::span<const mosaic::Draw>(&draw, 1);
 
     const std::size_t triangles =
-        (mesh.indices.empty() ? mesh.positions.size() : mesh.indices.size()) / 3;
+        (lit.mesh.indices.empty() ? lit.positions.size() : lit.mesh.indices.size()) / 3;
     std::printf("orbit: %s, %zu triangles, %dx%d, %dx, %d frames\n",
                 obj_path.empty() ? "torus knot" : obj_path.c_str(), triangles, width, height,
                 samples, frames);
@@ -288,12 +272,13 @@ int main(int argc, char** argv) {
           centre + dist * glm::dvec3(std::cos(kElevation) * std::sin(angle), std::sin(kElevation),
                                      std::cos(kElevation) * std::cos(angle));
       const glm::dmat4 view = glm::lookAtRH(eye, centre, glm::dvec3(0, 1, 0));
-      draw.transform = glm::mat4(projection * view);
 
       // Lambert per pixel on the interpolated normal: the view-space light taken to model space
       // (the inverse of the view's rotation is its transpose), where the normals are.
       lambert.light_dir = glm::vec3(glm::transpose(glm::dmat3(view)) * glm::normalize(kLightView));
-      draw.shader = mosaic::lambert_shader(lambert);
+      draw = lit.mesh.draw(mosaic::Shading::kLambert, lambert);
+      draw.positions_xyz = lit.positions;
+      draw.transform = glm::mat4(projection * view);
 
       const Clock::time_point t0 = Clock::now();
       stats = renderer.render(frame, target);
