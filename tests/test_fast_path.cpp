@@ -593,3 +593,54 @@ TEST(FastPath, HierarchicalZIsExactOnEveryPathAndEmptyWhenNotAsked) {
   r.render({}, target);
   EXPECT_TRUE(r.hierarchical_z().empty());
 }
+
+namespace {
+
+// FrameStats::memory of the knot at 100 px, flat or lit, with `threads` workers.
+mosaic::FrameStats knot_frame(mosaic::Isa isa, int threads, mosaic::Shading shading) {
+  const mosaic::Scene s = mosaic::builtin_scene("knot-100px", 160, 128);
+  mosaic::Renderer renderer({threads, isa});
+  mosaic::RenderTarget target(s.width, s.height, 4);
+  target.set_clear(s.clear_color, s.clear_depth);
+  const std::vector<mosaic::Draw> draws = s.draws(shading);
+  return renderer.render(mosaic::Frame{draws}, target);
+}
+
+}  // namespace
+
+// The frame's memory counters say what its vertex records, setups, planes and bins hold: the
+// same for every thread count, exactly what the frame's counts imply, and nothing for the
+// reference, which keeps no memory.
+TEST(FrameMemory, CountsWhatTheFrameFilled) {
+  const mosaic::Scene s = mosaic::builtin_scene("knot-100px", 160, 128);
+  const std::size_t vertices = s.meshes[0].positions.size();
+  const mosaic::FrameStats ref = knot_frame(Isa::kReference, 1, mosaic::Shading::kFlat);
+  EXPECT_EQ(ref.memory.total(), 0u);
+  for (const Isa isa : simd_isas())
+    for (const mosaic::Shading shading : {mosaic::Shading::kFlat, mosaic::Shading::kLambert}) {
+      const mosaic::FrameStats a = knot_frame(isa, 1, shading);
+      const std::string what =
+          std::string(to_string(isa)) + (shading == mosaic::Shading::kFlat ? " flat" : " lit");
+      // The knot's indices outnumber its vertices: each is projected once, into 32 bytes.
+      EXPECT_EQ(a.memory.vertices, 32u * vertices) << what;
+      // 128 bytes a setup, for the triangles drawn and those the binner found no sample in.
+      EXPECT_EQ(a.memory.setups % 128, 0u) << what;
+      EXPECT_GE(a.memory.setups, 128u * a.triangles_drawn) << what;
+      EXPECT_LE(a.memory.setups, 128u * (a.triangles_drawn + a.triangles_no_sample)) << what;
+      // Per chunk of 2048 triangles, an offset per tile and one more; per (triangle, tile) pair,
+      // a 4-byte index and the 8-byte pair it was sorted from.
+      const std::uint64_t chunks = (a.triangles_in + 2047) / 2048;
+      const std::uint64_t tiles = std::uint64_t{(160u + a.tile_size - 1) / a.tile_size} *
+                                  ((128u + a.tile_size - 1) / a.tile_size);
+      EXPECT_EQ(a.memory.bins, 12u * a.triangles_binned + 4u * chunks * (tiles + 1)) << what;
+      // Interpolated colours (the knot's vertex colours) or varyings (the normals) have planes.
+      EXPECT_GT(a.memory.planes, 0u) << what;
+      for (const int threads : {2, 7}) {
+        const mosaic::FrameStats b = knot_frame(isa, threads, shading);
+        EXPECT_EQ(b.memory.vertices, a.memory.vertices) << what << ", " << threads;
+        EXPECT_EQ(b.memory.setups, a.memory.setups) << what << ", " << threads;
+        EXPECT_EQ(b.memory.planes, a.memory.planes) << what << ", " << threads;
+        EXPECT_EQ(b.memory.bins, a.memory.bins) << what << ", " << threads;
+      }
+    }
+}

@@ -271,6 +271,10 @@ int run_render(const RenderOptions& o) {
     j["blocks_hiz_accepted"] = last.blocks_hiz_accepted;
     j["samples_tested"] = last.samples_tested;
     j["samples_written"] = last.samples_written;
+    j["bytes_vertices"] = last.memory.vertices;
+    j["bytes_setups"] = last.memory.setups;
+    j["bytes_planes"] = last.memory.planes;
+    j["bytes_bins"] = last.memory.bins;
     j["ms_median"] = ms_median;
     j["ms_first"] = runs.front().ms_total;  // the first frame of a new Renderer and target
     j["reserve"] = o.reserve;

@@ -260,6 +260,20 @@ constexpr std::size_t kReservedPlanesPerTriangle = 5;
 
 /// Gives `v` room for `n` elements with its pages written (a reserve() alone leaves them to
 /// fault in during the first frame), and leaves it empty.
+// The bytes of per-frame memory that a frame's vertex caches and chunks hold.
+FrameMemory frame_memory(std::span<const front::VertexCache> caches,
+                         std::span<const bin::Chunk> chunks) {
+  FrameMemory m;
+  for (const front::VertexCache& c : caches) m.vertices += c.size * sizeof(front::ProjectedVertex);
+  for (const bin::Chunk& c : chunks) {
+    m.setups += c.tris.size() * sizeof(front::TriangleSetup);
+    m.planes += c.planes.size() * sizeof(front::Plane);
+    m.bins += (c.offsets.size() + c.indices.size()) * sizeof(std::uint32_t) +
+              c.pairs.size() * sizeof(std::uint64_t);
+  }
+  return m;
+}
+
 template <class T>
 void touch_capacity(std::vector<T>& v, std::size_t n) {
   if (v.capacity() < n) {
@@ -629,6 +643,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   stats.blocks_hiz_accepted = ts.blocks_hiz_accepted;
   stats.samples_tested = ts.samples_tested;
   stats.samples_written = ts.samples_written;
+  stats.memory = frame_memory(caches, std::span<const bin::Chunk>(chunks.data(), nchunks));
   const auto t3 = Clock::now();
 
   stats.ms_setup = ms_between(t0, t2) - ms_binning;

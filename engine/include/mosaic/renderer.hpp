@@ -56,6 +56,18 @@ struct ChunkCost {
   double ms_binning = 0;        ///< binning the chunk's triangles into its tile table
 };
 
+/// Bytes of the fast path's per-frame memory that a frame filled, by what holds them; the
+/// Renderer keeps at least this much between frames. All 0 for Isa::kReference, which keeps none.
+struct FrameMemory {
+  std::uint64_t vertices = 0;  ///< the vertex stage's records (32 bytes a vertex)
+  std::uint64_t setups = 0;    ///< the front end's TriangleSetups (128 bytes a triangle set up)
+  std::uint64_t planes = 0;    ///< out-of-line planes: interpolated colours and varyings
+  /// the tile bins: per chunk, each tile's offset and each (triangle, tile) pair's index, and the
+  /// pairs the binner sorted them from
+  std::uint64_t bins = 0;
+  std::uint64_t total() const { return vertices + setups + planes + bins; }
+};
+
 /// Per-frame counters and timings. Counters are exact and do not depend on the thread count.
 struct FrameStats {
   std::uint64_t triangles_in = 0;           ///< triangles submitted
@@ -75,6 +87,7 @@ struct FrameStats {
   /// Samples that passed the depth test, over all triangles: their colour was written, unless
   /// the draw's DrawState::color_write was off (and their depth, if depth_write was on).
   std::uint64_t samples_written = 0;
+  FrameMemory memory;  ///< exact, and independent of the thread count, as the counters are
   /// Wall-clock milliseconds of each stage and of the whole frame. ms_resolve alone is summed
   /// over the workers (the resolve runs inside each tile's task), so it is thread time. Each
   /// front-end chunk is binned as soon as it is set up, in the same task, so ms_setup and
