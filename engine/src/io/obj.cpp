@@ -143,17 +143,18 @@ struct ObjFile {
   std::vector<std::size_t> bad_vertices, bad_vertex_lines;
 };
 
-/// What a triangle may take from reading the file to the finished Mesh: three corners, its
-/// share of a face, and the Mesh's indices and per-triangle colour; then at most three vertices
-/// (clip position, normal, UV, colour, and the loader's record of which corner each came from).
+/// What a triangle may take from reading the file to the finished Mesh: three corners (once as
+/// read and once fanned), its share of a face, and the Mesh's indices and per-triangle colour;
+/// then at most three vertices (clip position, normal, UV, colour, and the shared-vertex entry
+/// of 4 indices that finds it again).
 constexpr std::uintmax_t kBytesPerTriangle =
-    3 * sizeof(Corner) + sizeof(Face) + 3 * sizeof(std::uint32_t) + sizeof(Rgba8) +
+    2 * 3 * sizeof(Corner) + sizeof(Face) + 3 * sizeof(std::uint32_t) + sizeof(Rgba8) +
     3 * (sizeof(glm::vec4) + sizeof(glm::vec3) + sizeof(glm::vec2) + sizeof(Rgba8) +
-         sizeof(Corner) + sizeof(std::uint32_t));
-/// What a `v`, `vn` or `vt` line takes as read: the largest, a position with its colour and
-/// the first-vertex link of the corner lookup.
+         4 * sizeof(std::uint32_t));
+/// What a `v`, `vn` or `vt` line takes: the largest, a position with its colour, its clip-space
+/// copy and the first link of the shared-vertex lookup.
 constexpr std::uintmax_t kBytesPerAttribute =
-    sizeof(glm::vec3) + sizeof(Rgba8) + sizeof(std::uint32_t);
+    sizeof(glm::vec3) + sizeof(Rgba8) + sizeof(glm::vec4) + sizeof(std::uint32_t);
 
 /// The words of a line, separated by spaces and tabs.
 class Words {
@@ -287,14 +288,16 @@ class ObjReader {
     constexpr std::size_t kMaxDigits = 18;
     const bool negative = !part.empty() && part[0] == '-';
     const std::string_view digits = part.substr(negative ? 1 : 0);
+    const auto not_an_index = [&] {
+      fail("face vertex '" + std::string(corner) + "' is not a vertex index");
+    };
+    if (digits.empty() || digits.size() > kMaxDigits) not_an_index();
     std::int64_t i = 0;
     for (const char ch : digits) {
-      if (ch < '0' || ch > '9') i = -1;
-      if (i < 0) break;
+      if (ch < '0' || ch > '9') not_an_index();
       i = i * 10 + (ch - '0');
     }
-    if (digits.empty() || digits.size() > kMaxDigits || i <= 0)
-      fail("face vertex '" + std::string(corner) + "' is not a vertex index");
+    if (i == 0) not_an_index();
     if (negative) i = -i;
     if (i < 0) {
       if (-i > static_cast<std::int64_t>(count))
