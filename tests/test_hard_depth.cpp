@@ -11,6 +11,7 @@
 // interpolation with less than float precision near 0 (reversed-Z then fights as well).
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <string>
@@ -269,6 +270,42 @@ TEST(HardDepth, ReversedZKeepsANearFarRatioOfTenToTheTenStableWhereStandardZFigh
   EXPECT_GT(far_wins(standard, DepthTest::kLess, 1.0f, bands_standard), 0u)
       << "the standard mapping was expected to z-fight at far distances";
   EXPECT_GE(bands_standard, 3u);
+}
+
+}  // namespace
+}  // namespace mosaic
+
+namespace mosaic {
+namespace {
+
+// Found by the pipeline fuzzer: a triangle with one vertex far behind the eye (W = -8.8e21) and
+// depths near 0, whose clipped corners have a W so small that the rounding of their Z, divided
+// by it, gave every sample a depth of -1.9e-6. Depth is clamped to [0, 1] at the divide.
+TEST(HardDepth, ClippedCornersWithATinyWKeepDepthInTheRange) {
+  const auto vertex = [](std::uint32_t x, std::uint32_t y, std::uint32_t z, std::uint32_t w) {
+    return glm::vec4(std::bit_cast<float>(x), std::bit_cast<float>(y), std::bit_cast<float>(z),
+                     std::bit_cast<float>(w));
+  };
+  const std::vector<glm::vec4> positions{vertex(0x003f0000, 0x003f8000, 0x01010201, 0x3ffffe00),
+                                         vertex(0x00130000, 0xc5c50000, 0x0041a000, 0x41a02a00),
+                                         vertex(0x3f000000, 0x3f800000, 0x01020100, 0xe3ee0201)};
+  Draw draw;
+  draw.positions = positions;
+  draw.state.depth_test = DepthTest::kLess;
+  for (const int samples : {1, 4}) {
+    test::RenderSetup how;
+    how.samples = samples;
+    const test::Captured ref = test::render_draws({&draw, 1}, 48, 30, how, {1, 2, 3, 4});
+    ASSERT_GT(ref.stats.samples_written, 0u);
+    EXPECT_EQ(ref.stats.triangles_clipped, 1u);
+    for (const float d : ref.sample_depth) ASSERT_TRUE(d >= 0.0f && d <= 1.0f) << d;
+    for (const Isa isa : test::simd_isas()) {
+      how.isa = isa;
+      how.threads = 2;
+      test::expect_same(ref, test::render_draws({&draw, 1}, 48, 30, how, {1, 2, 3, 4}),
+                        std::string(to_string(isa)) + ", " + std::to_string(samples) + "x");
+    }
+  }
 }
 
 }  // namespace

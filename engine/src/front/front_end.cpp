@@ -1,5 +1,6 @@
 #include "front/front_end.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mosaic::front {
@@ -35,13 +36,15 @@ std::uint32_t triangle_count(const Draw& draw) {
 namespace {
 
 // The perspective divide. False for a vertex on the eye point (W <= 0 survives clipping only
-// there), which has no screen position.
+// there), which has no screen position. Clipping keeps 0 <= Z <= W only in exact arithmetic: a
+// clipped vertex's rounding, divided by a tiny W, can leave [0, 1], so depth is clamped to the
+// range (a no-op for a vertex that was not clipped, which the SIMD front end also divides).
 bool divide(const ClipVertex& c, ScreenVertex& s) {
   if (!(c.W > 0)) return false;
   const double q = 1.0 / c.W;
   s.x = c.X * q;
   s.y = c.Y * q;
-  s.z = static_cast<float>(c.Z * q);
+  s.z = std::clamp(static_cast<float>(c.Z * q), 0.0f, 1.0f);
   s.q = q;
   s.color = c.color;
   return std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(q);
