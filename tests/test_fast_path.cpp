@@ -596,9 +596,9 @@ TEST(FastPath, HierarchicalZIsExactOnEveryPathAndEmptyWhenNotAsked) {
 
 namespace {
 
-// FrameStats::memory of the knot at 100 px, flat or lit, with `threads` workers.
-mosaic::FrameStats knot_frame(mosaic::Isa isa, int threads, mosaic::Shading shading) {
-  const mosaic::Scene s = mosaic::builtin_scene("knot-100px", 160, 128);
+// The frame of scene `s` (the knot at 100 px), flat or lit, with `threads` workers.
+mosaic::FrameStats knot_frame(const mosaic::Scene& s, mosaic::Isa isa, int threads,
+                              mosaic::Shading shading) {
   mosaic::Renderer renderer({threads, isa});
   mosaic::RenderTarget target(s.width, s.height, 4);
   target.set_clear(s.clear_color, s.clear_depth);
@@ -614,11 +614,11 @@ mosaic::FrameStats knot_frame(mosaic::Isa isa, int threads, mosaic::Shading shad
 TEST(FrameMemory, CountsWhatTheFrameFilled) {
   const mosaic::Scene s = mosaic::builtin_scene("knot-100px", 160, 128);
   const std::size_t vertices = s.meshes[0].positions.size();
-  const mosaic::FrameStats ref = knot_frame(Isa::kReference, 1, mosaic::Shading::kFlat);
+  const mosaic::FrameStats ref = knot_frame(s, Isa::kReference, 1, mosaic::Shading::kFlat);
   EXPECT_EQ(ref.memory.total(), 0u);
   for (const Isa isa : simd_isas())
     for (const mosaic::Shading shading : {mosaic::Shading::kFlat, mosaic::Shading::kLambert}) {
-      const mosaic::FrameStats a = knot_frame(isa, 1, shading);
+      const mosaic::FrameStats a = knot_frame(s, isa, 1, shading);
       const std::string what =
           std::string(to_string(isa)) + (shading == mosaic::Shading::kFlat ? " flat" : " lit");
       // The knot's indices outnumber its vertices: each is projected once, into 32 bytes.
@@ -636,7 +636,7 @@ TEST(FrameMemory, CountsWhatTheFrameFilled) {
       // Interpolated colours (the knot's vertex colours) or varyings (the normals) have planes.
       EXPECT_GT(a.memory.planes, 0u) << what;
       for (const int threads : {2, 7}) {
-        const mosaic::FrameStats b = knot_frame(isa, threads, shading);
+        const mosaic::FrameStats b = knot_frame(s, isa, threads, shading);
         EXPECT_EQ(b.memory.vertices, a.memory.vertices) << what << ", " << threads;
         EXPECT_EQ(b.memory.setups, a.memory.setups) << what << ", " << threads;
         EXPECT_EQ(b.memory.planes, a.memory.planes) << what << ", " << threads;

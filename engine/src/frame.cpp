@@ -258,8 +258,6 @@ constexpr std::size_t kReservedTilesPerTriangle = 2;
 /// Out-of-line planes a reserved chunk is sized for, per triangle: 1/w and four colours.
 constexpr std::size_t kReservedPlanesPerTriangle = 5;
 
-/// Gives `v` room for `n` elements with its pages written (a reserve() alone leaves them to
-/// fault in during the first frame), and leaves it empty.
 // The bytes of per-frame memory that a frame's vertex caches and chunks hold.
 FrameMemory frame_memory(std::span<const front::VertexCache> caches,
                          std::span<const bin::Chunk> chunks) {
@@ -274,6 +272,8 @@ FrameMemory frame_memory(std::span<const front::VertexCache> caches,
   return m;
 }
 
+/// Gives `v` room for `n` elements with its pages written (a reserve() alone leaves them to
+/// fault in during the first frame), and leaves it empty.
 template <class T>
 void touch_capacity(std::vector<T>& v, std::size_t n) {
   if (v.capacity() < n) {

@@ -141,6 +141,9 @@ struct ObjFile {
   std::size_t triangles = 0;  ///< of the faces, fanned
   /// Positions (0-based) with an x, y or z that is not finite, and their lines.
   std::vector<std::size_t> bad_vertices, bad_vertex_lines;
+
+  /// Whether every `v` gave a colour, so that the mesh takes the file's colours.
+  bool has_colors() const { return colored == positions.size(); }
 };
 
 /// What a triangle may take from reading the file to the finished Mesh: three corners (once as
@@ -492,7 +495,7 @@ class SharedVertices {
 /// normal. Colours: the file's per vertex, or the flat shade per triangle.
 Mesh build_mesh(const ObjFile& obj, const std::vector<Triangle>& tris, bool every_uv,
                 const glm::dmat4& view_projection, const glm::dmat4& view) {
-  const bool has_colors = obj.colored == obj.positions.size();
+  const bool has_colors = obj.has_colors();
   // Each position in clip space once, however many vertices it makes.
   std::vector<glm::vec4> clip(obj.positions.size());
   for (std::size_t v = 0; v < clip.size(); ++v)
@@ -573,7 +576,6 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
   const auto [centre, radius] = bounding_sphere(obj, tris);
   glm::dmat4 view;
   const glm::dmat4 view_projection = framing_camera(centre, radius, width, height, view);
-  const bool has_colors = obj.colored == obj.positions.size();
 
   Scene scene;
   scene.name = path.stem().string();
@@ -586,7 +588,7 @@ Scene load_obj(const std::filesystem::path& path, int width, int height) {
   scene.light = {glm::vec3(glm::transpose(glm::dmat3(view)) * glm::normalize(kLightDirection)),
                  glm::vec3(kAlbedo), static_cast<float>(kAmbient), static_cast<float>(kDiffuse),
                  true};
-  scene.default_shading = has_colors ? Shading::kFlat : Shading::kLambert;
+  scene.default_shading = obj.has_colors() ? Shading::kFlat : Shading::kLambert;
   scene.meshes.push_back(build_mesh(obj, tris, check.every_uv, view_projection, view));
   if (!obj.bad_vertices.empty())
     scene.warnings.push_back(count_warning(
