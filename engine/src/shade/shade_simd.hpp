@@ -238,6 +238,16 @@ struct ShadeSimd : simd::LaneTypes<A> {
     }
   }
 
+  /// Bit k set where sample k of block pixel p passed. The common 4x count is unrolled: the
+  /// loop over a run-time count cost more than the rest of queueing the pixel.
+  static std::uint32_t samples_passed(const std::uint64_t* passed, int S, int p) {
+    const auto bit = [&](int k) { return static_cast<std::uint32_t>((passed[k] >> p) & 1) << k; };
+    if (S == 4) return bit(0) | bit(1) | bit(2) | bit(3);
+    std::uint32_t samples = 0;
+    for (int k = 0; k < S; ++k) samples |= bit(k);
+    return samples;
+  }
+
   /// The partly covered batch g of a block, into the queue: each pixel with a passed sample, at
   /// its centre with the samples that passed (MSAA), or, under SSAA, sample s of each pixel in
   /// `bits` at the sample's position.
@@ -255,10 +265,8 @@ struct ShadeSimd : simd::LaneTypes<A> {
                 cblk + s * kBlockPixels + p, 1u, front);
         continue;
       }
-      std::uint32_t samples = 0;
-      for (int k = 0; k < S; ++k) samples |= static_cast<std::uint32_t>((passed[k] >> p) & 1) << k;
-      enqueue(q, t, ln.planes, (fx_blk + col) + 0.5f, (fy_blk + row) + 0.5f, cblk + p, samples,
-              front);
+      enqueue(q, t, ln.planes, (fx_blk + col) + 0.5f, (fy_blk + row) + 0.5f, cblk + p,
+              samples_passed(passed, S, p), front);
     }
   }
 
@@ -278,12 +286,14 @@ struct ShadeSimd : simd::LaneTypes<A> {
       q.blend = blend;
     }
     const F fx_blk(static_cast<float>(px0)), fy_blk(static_cast<float>(py0));
-    for (int g = 0; g < kBatches; ++g) {
+    // Pixels with a passed sample, once for the block: only their batches are visited.
+    std::uint64_t any_pixel = 0;
+    for (int s = 0; s < S; ++s) any_pixel |= passed[s];
+    while (any_pixel) {
+      const int g = std::countr_zero(any_pixel) / kShaderBatch;
       const int shift = g * kShaderBatch;
-      std::uint32_t any = 0;
-      for (int s = 0; s < S; ++s)
-        any |= static_cast<std::uint32_t>(passed[s] >> shift) & kBatchBits;
-      if (!any) continue;
+      const auto any = static_cast<std::uint32_t>(any_pixel >> shift) & kBatchBits;
+      any_pixel &= ~(std::uint64_t{kBatchBits} << shift);
       if (queued && !ssaa && any != kBatchBits) {
         enqueue_batch(q, ln, t, g, false, S, 0, any, cblk, px0, py0, passed);
         continue;
