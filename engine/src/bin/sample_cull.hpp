@@ -41,16 +41,19 @@ inline bool covers_no_sample(const front::TriangleSetup& t,
   // Twice the area: the cross product of two edge directions, (b, -a) each (|a|, |b| < 2^24).
   const std::int64_t area2 = t.edge[0].a * t.edge[1].b - t.edge[0].b * t.edge[1].a;
   if ((area2 < 0 ? -area2 : area2) * samples > kCullMaxExpectedSamples * kPixelArea2) return false;
+  // Every candidate is tested, with no branch on its result: which sample a tiny triangle covers
+  // is data, which short-circuit tests mispredict. A sample is inside where no edge value has its
+  // sign bit set.
+  std::int64_t all_outside = -1;  // its sign bit stays set while every candidate is outside
   for (int py = t.by0; py < t.by1; ++py) {
     for (int px = t.bx0; px < t.bx1; ++px) {
       for (const raster::SampleOffset o : pattern) {
         const std::int64_t sx = raster::sample_x_fixed(px, o), sy = raster::sample_y_fixed(py, o);
-        if (t.edge[0](sx, sy) >= 0 && t.edge[1](sx, sy) >= 0 && t.edge[2](sx, sy) >= 0)
-          return false;
+        all_outside &= t.edge[0](sx, sy) | t.edge[1](sx, sy) | t.edge[2](sx, sy);
       }
     }
   }
-  return true;
+  return all_outside < 0;
 }
 
 }  // namespace mosaic::bin
