@@ -2,13 +2,45 @@
 //
 // xsimd 8 has no portable batch_bool <-> bit-mask conversion, so this is where the
 // instructions are named: movmskps on SSE and AVX2, k-registers on AVX-512. Lane i is bit i.
-// Also here, for the same reason: rounding double lanes to float precision (to_float()).
+// Also here, for the same reason: rounding double lanes to float precision (to_float()), and
+// packing the lanes a mask selects into the low lanes, in order (compress()), and, where the set
+// has it, storing lanes to computed addresses (scatter()).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <xsimd/xsimd.hpp>
 
 namespace mosaic::simd {
+
+namespace detail {
+// compress() on AVX2: for each 8-bit mask, the source lane of each packed lane, 4 bits each
+// (lane i in bits 4i .. 4i + 3), for vpermd. Lanes past the mask's count take lane 0.
+inline constexpr std::array<std::uint32_t, 256> kCompress8 = [] {
+  std::array<std::uint32_t, 256> t{};
+  for (unsigned m = 0; m < 256; ++m) {
+    unsigned k = 0;
+    for (unsigned l = 0; l < 8; ++l)
+      if (m >> l & 1u) t[m] |= l << (4 * k++);
+  }
+  return t;
+}();
+// compress() on SSE4.1: for each 4-bit mask, the pshufb control that packs its lanes' bytes.
+inline constexpr std::array<std::array<std::uint8_t, 16>, 16> kCompress4 = [] {
+  std::array<std::array<std::uint8_t, 16>, 16> t{};
+  for (unsigned m = 0; m < 16; ++m) {
+    unsigned k = 0;
+    for (unsigned l = 0; l < 4; ++l) {
+      if (!(m >> l & 1u)) continue;
+      for (unsigned b = 0; b < 4; ++b) t[m][4 * k + b] = static_cast<std::uint8_t>(4 * l + b);
+      ++k;
+    }
+    for (; k < 4; ++k)
+      for (unsigned b = 0; b < 4; ++b) t[m][4 * k + b] = static_cast<std::uint8_t>(b);
+  }
+  return t;
+}();
+}  // namespace detail
 
 template <class A>
 struct Mask;
@@ -46,6 +78,21 @@ struct Mask<xsimd::avx512bw> {
   static xsimd::batch_bool<float, A> floats(std::uint32_t b) {
     return xsimd::batch_bool<float, A>(static_cast<__mmask16>(b));
   }
+  /// The lanes set in `b`, packed into the low lanes in order; the lanes above them unspecified.
+  static xsimd::batch<float, A> compress(const xsimd::batch<float, A>& v, std::uint32_t b) {
+    return _mm512_maskz_compress_ps(static_cast<__mmask16>(b), v);
+  }
+  static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
+                                                std::uint32_t b) {
+    return _mm512_maskz_compress_epi32(static_cast<__mmask16>(b), v);
+  }
+  /// Whether scatter() exists: base[index[l]] = v[l] for the lanes set in `b`, in lane order
+  /// (where two lanes' indices are equal, the higher lane's value stays).
+  static constexpr bool kScatter = true;
+  static void scatter(std::int32_t* base, const xsimd::batch<std::int32_t, A>& index,
+                      const xsimd::batch<std::int32_t, A>& v, std::uint32_t b) {
+    _mm512_mask_i32scatter_epi32(base, static_cast<__mmask16>(b), index, v, 4);
+  }
 };
 #endif
 
@@ -82,6 +129,21 @@ struct Mask<xsimd::avx2> {
   static xsimd::batch_bool<float, A> floats(std::uint32_t b) {
     return _mm256_castsi256_ps(expand(b));
   }
+  /// compress()'s vpermd indices for mask `b`, unpacked from its table entry.
+  static __m256i compress_index(std::uint32_t b) {
+    const __m256i nibbles = _mm256_set1_epi32(static_cast<int>(detail::kCompress8[b & 0xffu]));
+    const __m256i shifts = _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28);
+    return _mm256_and_si256(_mm256_srlv_epi32(nibbles, shifts), _mm256_set1_epi32(7));
+  }
+  /// The lanes set in `b`, packed into the low lanes in order; the lanes above them unspecified.
+  static xsimd::batch<float, A> compress(const xsimd::batch<float, A>& v, std::uint32_t b) {
+    return _mm256_permutevar8x32_ps(v, compress_index(b));
+  }
+  static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
+                                                std::uint32_t b) {
+    return _mm256_permutevar8x32_epi32(v, compress_index(b));
+  }
+  static constexpr bool kScatter = false;  ///< AVX2 has gathers only
 };
 #endif
 
@@ -115,6 +177,17 @@ struct Mask<xsimd::sse4_1> {
   }
   static xsimd::batch_bool<std::int32_t, A> ints(std::uint32_t b) { return expand(b); }
   static xsimd::batch_bool<float, A> floats(std::uint32_t b) { return _mm_castsi128_ps(expand(b)); }
+  /// The lanes set in `b`, packed into the low lanes in order; the lanes above them unspecified.
+  static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
+                                                std::uint32_t b) {
+    const __m128i control =
+        _mm_loadu_si128(reinterpret_cast<const __m128i*>(detail::kCompress4[b & 0xfu].data()));
+    return _mm_shuffle_epi8(v, control);
+  }
+  static xsimd::batch<float, A> compress(const xsimd::batch<float, A>& v, std::uint32_t b) {
+    return _mm_castsi128_ps(compress(xsimd::batch<std::int32_t, A>(_mm_castps_si128(v)), b));
+  }
+  static constexpr bool kScatter = false;
 };
 #endif
 

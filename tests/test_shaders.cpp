@@ -555,8 +555,8 @@ TEST(Shaders, PainterSortedTranslucentShadedDrawsMatchTheReference) {
 // from many triangles into one call, and shade a whole batch at once after writing what was
 // packed before. In screen space, per 8×8 block:
 //  - a rectangle exactly over rows 0-1 (a whole batch), and one a pixel short (15 pixels);
-//  - 40 tiny translucent triangles stacked on the same few pixels (the queue holds one pixel
-//    many times, fills past 16 entries, and must blend in order);
+//  - 40 tiny triangles stacked on the same few pixels (the queue holds one pixel many times,
+//    fills past 16 entries, and must blend, or overwrite when the draws do not blend, in order);
 //  - a flat-colour draw between two shaded ones (the queue is written before the next draw);
 //  - a triangle over a whole block and queued pixels, in the same draw (whole batches after
 //    partial ones).
@@ -611,7 +611,7 @@ TEST(Shaders, PackedBatchesMatchTheReferenceAtTheirThresholds) {
                          0.3f + 0.1f * a);
       },
       3);
-  const auto shaded = [&](std::size_t first, std::size_t count) {
+  const auto shaded = [&](std::size_t first, std::size_t count, bool blend) {
     Draw d;
     d.space = Space::kScreen;
     d.positions = all.subspan(first, count);
@@ -619,7 +619,7 @@ TEST(Shaders, PackedBatchesMatchTheReferenceAtTheirThresholds) {
     d.attribute_count = 3;
     d.varyings = varyings;
     d.shader = wavy;
-    d.state.blend = BlendMode::kSourceOver;
+    d.state.blend = blend ? BlendMode::kSourceOver : BlendMode::kNone;
     d.state.depth_test = DepthTest::kLessEqual;
     return d;
   };
@@ -631,21 +631,31 @@ TEST(Shaders, PackedBatchesMatchTheReferenceAtTheirThresholds) {
   flat.state.depth_write = false;
   // The stack and the block over it are one draw: the block's whole batches come after the
   // stack's queued pixels.
-  const std::vector<Draw> draws{shaded(0, first_draw), shaded(first_draw, stack + last), flat,
-                                shaded(first_draw, stack)};
+  // Without blending, a later entry of a sample overwrites an earlier one in the same batch; the
+  // stack is then drawn once, so that no redraw hides the order its first drawing wrote in.
+  const auto scene = [&](bool blend) {
+    std::vector<Draw> d{shaded(0, first_draw, blend), shaded(first_draw, stack + last, blend),
+                        flat};
+    if (blend) d.push_back(shaded(first_draw, stack, blend));
+    return d;
+  };
+  const std::vector<Draw> draws = scene(true);
   struct Mode {
     int samples;
     bool ssaa;
   };
-  for (const bool painter : {false, true}) {
-    for (const Mode m : {Mode{1, false}, Mode{4, false}, Mode{4, true}, Mode{16, false}}) {
-      const Image ref = render(draws, kW, kH, m.samples, m.ssaa, Isa::kReference, 1, painter);
-      for (const Isa isa : simd_isas())
-        for (const int threads : {1, 2})
-          expect_same(ref, render(draws, kW, kH, m.samples, m.ssaa, isa, threads, painter),
-                      std::to_string(m.samples) + "x ssaa " + std::to_string(m.ssaa) + " " +
-                          to_string(isa) + " threads " + std::to_string(threads) + " painter " +
-                          std::to_string(painter));
+  for (const bool blend : {true, false}) {
+    const std::vector<Draw> these = scene(blend);
+    for (const bool painter : {false, true}) {
+      for (const Mode m : {Mode{1, false}, Mode{4, false}, Mode{4, true}, Mode{16, false}}) {
+        const Image ref = render(these, kW, kH, m.samples, m.ssaa, Isa::kReference, 1, painter);
+        for (const Isa isa : simd_isas())
+          for (const int threads : {1, 2})
+            expect_same(ref, render(these, kW, kH, m.samples, m.ssaa, isa, threads, painter),
+                        std::to_string(m.samples) + "x ssaa " + std::to_string(m.ssaa) + " " +
+                            to_string(isa) + " threads " + std::to_string(threads) + " painter " +
+                            std::to_string(painter) + " blend " + std::to_string(blend));
+      }
     }
   }
   // 8 px tiles: the stacks straddle tiles, and a tile's queue holds fewer triangles.

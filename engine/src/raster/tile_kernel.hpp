@@ -754,7 +754,11 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       cx.row[v] = lane_row(v);
       cx.ln.colf[v] = xsimd::to_float(cx.col[v]);
       cx.ln.rowf[v] = xsimd::to_float(cx.row[v]);
+      cx.ln.pixel[v] = cx.col[v] + cx.row[v] * I(kBlockSize);
     }
+    alignas(64) std::int32_t lane_bit[L];
+    for (int l = 0; l < L; ++l) lane_bit[l] = std::int32_t{1} << l;
+    cx.ln.lane_bit = I::load_aligned(lane_bit);
     for (int s = 0; s < f.samples; ++s) {
       const SampleOffset o = cx.pattern[s];
       // The reference's sample position is px + 0.5 + dx / 16; every term and sum is exact.
@@ -769,6 +773,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         cx.sy[s * kVectors + v] = cx.ln.rowf[v] + cx.ln.oy[s];
       }
     }
+    cx.queue.color_base = sc.color.get();
     // Clear the buffers the frame uses, and the tile's hierarchical z.
     const std::size_t n = static_cast<std::size_t>(cx.blocks) * f.samples * kBlockPixels;
     if (f.keep_color) {

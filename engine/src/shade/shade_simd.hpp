@@ -38,21 +38,32 @@ struct ShadeSimd : simd::LaneTypes<A> {
     F colf[kVectors], rowf[kVectors];
     F ox[raster::kMaxSamples], oy[raster::kMaxSamples];
     float oxs[raster::kMaxSamples], oys[raster::kMaxSamples];  ///< ox, oy as scalars
+    I pixel[kVectors];  ///< each vector's pixel indices in the block: v * L + lane
+    I lane_bit;         ///< 1 << lane: a lane's bit in a coverage word shifted by v * L
     const front::Plane* planes = nullptr;
   };
 
   /// Pixels (MSAA) or samples (SSAA) of one shader draw that wait for a shader call. They are
   /// gathered from any triangles and blocks of a tile, so that a call shades up to kShaderBatch
   /// of them: a small triangle covers a few lanes of a block's batch, and a call costs the whole
-  /// batch. Entries are written in the order they were queued, so draw order and blending hold.
+  /// batch. Entries are appended a vector at a time, packed, in the order they were queued, so
+  /// draw order and blending hold; the rows are two batches long, so that an append that fills
+  /// the batch keeps its overflow for the next call.
   struct ShadeQueue {
-    ShaderInput in;                        ///< the entries' positions and varyings, lane by lane
-    std::uint32_t* color[kShaderBatch];    ///< each entry's first colour sample
-    std::uint32_t samples[kShaderBatch];   ///< bit s: write color[l] + s * kBlockPixels
+    static constexpr int kRow = 2 * kShaderBatch;
+    alignas(64) float x[kRow], y[kRow];  ///< each entry's shading position
+    alignas(64) float varying[kMaxVaryings][kRow];
+    alignas(64) float ddx[kMaxVaryings][kRow], ddy[kMaxVaryings][kRow];
+    /// Each entry's first colour sample, as an index into color_base, and the samples it writes
+    /// (bit s: index + s * kBlockPixels).
+    alignas(64) std::int32_t color[kRow];
+    alignas(64) std::int32_t samples[kRow];
+    std::uint64_t front_facing = 0;        ///< bit l: entry l's triangle faces the viewer
+    std::uint32_t* color_base = nullptr;   ///< the tile's colour samples
     int n = 0;                             ///< entries queued
-    std::uint32_t front_facing = 0;        ///< ShaderInput::front_facing of the entries queued
     const DrawShading* shading = nullptr;  ///< the draw of every entry queued
     bool blend = false;                    ///< whether that draw blends
+    int span = 1;  ///< samples an entry may write: the draw's count (MSAA), or 1 (SSAA)
   };
 
   static std::int32_t bits_of(Rgba8 c) { return std::bit_cast<std::int32_t>(c); }
@@ -130,20 +141,13 @@ struct ShadeSimd : simd::LaneTypes<A> {
       const F x = (fx_blk + ln.colf[v]) + ox, y = (fy_blk + ln.rowf[v]) + oy;
       x.store_aligned(in.x + j * L);
       y.store_aligned(in.y + j * L);
-      if (sh.varyings > 0) {
-        const auto lanes = M::floats((active >> (j * L)) & kLaneBits);
-        const front::Plane* p = ln.planes + t.planes_base;  // q, then the varyings
-        const F q = plane(p[0], t.x0, t.y0, x, y);
-        for (int k = 0; k < sh.varyings; ++k) {
-          xsimd::select(lanes, plane(p[1 + k], t.x0, t.y0, x, y) / q, F(0.0f))
-              .store_aligned(in.varying[k] + j * L);
-        }
-        for (int k = 0; sh.derivatives && k < sh.varyings; ++k) {
-          const F val = F::load_aligned(in.varying[k] + j * L);
-          slope(p[1 + k].ddx, p[0].ddx, val, q, lanes).store_aligned(in.ddx[k] + j * L);
-          slope(p[1 + k].ddy, p[0].ddy, val, q, lanes).store_aligned(in.ddy[k] + j * L);
-        }
-      }
+      const auto lanes = M::floats((active >> (j * L)) & kLaneBits);
+      varyings(
+          t, ln.planes, sh, x, y, lanes,
+          [&](float* row, F value) {
+            xsimd::select(lanes, value, F(0.0f)).store_aligned(row + j * L);
+          },
+          in.varying[0], in.ddx[0], in.ddy[0], kShaderBatch);
     }
     in.active = active;
     in.front_facing = front_lanes(t) & active;
@@ -153,10 +157,29 @@ struct ShadeSimd : simd::LaneTypes<A> {
     return sh.discards ? res.discard & active : 0u;
   }
 
-  // shade::varying_slope() lane-wise, 0 outside `lanes` (inactive lanes hold zeros).
-  [[gnu::always_inline]] static F slope(float dp, float dq, F v, F q,
-                                        xsimd::batch_bool<float, A> lanes) {
-    return xsimd::select(lanes, (F(dp) - v * F(dq)) / q, F(0.0f));
+  // shade::varying_slope() lane-wise.
+  [[gnu::always_inline]] static F slope(float dp, float dq, F v, F q) {
+    return (F(dp) - v * F(dq)) / q;
+  }
+
+  // The shader's varyings of triangle t at lanes (x, y), and their derivatives when it reads
+  // them (shade::varying_at() lane-wise), each handed to put(row, value): row k of the varying,
+  // ddx and ddy arrays starts `stride` floats after row k - 1. Lanes outside `lanes` are 0.
+  template <class Put>
+  [[gnu::always_inline]] static void varyings(const front::TriangleSetup& t,
+                                              const front::Plane* planes, const DrawShading& sh,
+                                              F x, F y, xsimd::batch_bool<float, A> lanes, Put put,
+                                              float* varying, float* ddx, float* ddy, int stride) {
+    if (sh.varyings == 0) return;
+    const front::Plane* p = planes + t.planes_base;  // q, then the varyings
+    const F q = plane(p[0], t.x0, t.y0, x, y);
+    for (int k = 0; k < sh.varyings; ++k) {
+      const F v = xsimd::select(lanes, plane(p[1 + k], t.x0, t.y0, x, y) / q, F(0.0f));
+      put(varying + k * stride, v);
+      if (!sh.derivatives) continue;
+      put(ddx + k * stride, xsimd::select(lanes, slope(p[1 + k].ddx, p[0].ddx, v, q), F(0.0f)));
+      put(ddy + k * stride, xsimd::select(lanes, slope(p[1 + k].ddy, p[0].ddy, v, q), F(0.0f)));
+    }
   }
 
   // A shader's output lanes as packed RGBA8 (shade::output_to_unorm8() lane-wise).
@@ -171,103 +194,171 @@ struct ShadeSimd : simd::LaneTypes<A> {
     }
   }
 
-  /// Queues one pixel or sample at shading position (x, y) of triangle t: its varyings as
-  /// batch_colors() computes them lane-wise (shade::varying_at()), and the colour samples it
-  /// writes. A full queue is shaded and written at once. `front` is all ones if t faces the
-  /// viewer, else 0.
-  static void enqueue(ShadeQueue& q, const front::TriangleSetup& t, const front::Plane* planes,
-                      float x, float y, std::uint32_t* color, std::uint32_t samples,
-                      std::uint32_t front) {
-    const int l = q.n++;
-    q.in.x[l] = x;
-    q.in.y[l] = y;
-    const int nv = q.shading->varyings;
-    if (nv > 0) {
-      const front::Plane* p = planes + t.planes_base;  // q, then the varyings
-      const float qv = front::eval_plane(p[0], t.x0, t.y0, x, y);
-      for (int k = 0; k < nv; ++k)
-        q.in.varying[k][l] = front::eval_plane(p[1 + k], t.x0, t.y0, x, y) / qv;
-      if (q.shading->derivatives) {
-        for (int k = 0; k < nv; ++k) {
-          const float v = q.in.varying[k][l];
-          q.in.ddx[k][l] = varying_slope(p[1 + k].ddx, p[0].ddx, v, qv);
-          q.in.ddy[k][l] = varying_slope(p[1 + k].ddy, p[0].ddy, v, qv);
-        }
-      }
-    }
-    q.front_facing |= front & (1u << l);
-    q.color[l] = color;
-    q.samples[l] = samples;
-    if (q.n == kShaderBatch) flush(q);
+  /// Appends the lanes set in `lanes` of one vector to the queue, packed: shading positions
+  /// (x, y) of triangle t, each entry's first colour sample and the samples it writes. The queue
+  /// must hold fewer than kShaderBatch entries before a block's batch is appended (its rows have
+  /// room for a whole batch more). `front` is nonzero if t faces the viewer.
+  static void append(ShadeQueue& q, const front::TriangleSetup& t, const front::Plane* planes,
+                     std::uint32_t lanes, F x, F y, I color, I samples, std::uint32_t front) {
+    const int n = q.n;
+    M::compress(x, lanes).store_unaligned(q.x + n);
+    M::compress(y, lanes).store_unaligned(q.y + n);
+    varyings(
+        t, planes, *q.shading, x, y, M::floats(lanes),
+        [&](float* row, F value) { M::compress(value, lanes).store_unaligned(row + n); },
+        q.varying[0], q.ddx[0], q.ddy[0], ShadeQueue::kRow);
+    M::compress(color, lanes).store_unaligned(q.color + n);
+    M::compress(samples, lanes).store_unaligned(q.samples + n);
+    const int c = std::popcount(lanes);
+    q.front_facing |= (((std::uint64_t{1} << c) - 1) << n) & (front ? ~std::uint64_t{0} : 0);
+    q.n = n + c;
   }
 
-  /// Shades the queued entries in one call (the lanes past them inactive, all zeros) and writes
-  /// their colour samples in queue order, blended when the draw blends.
+  /// Shades the first kShaderBatch queued entries (or all, if fewer) in one call, the lanes past
+  /// them inactive and zero, and writes their colour samples in queue order, blended when the
+  /// draw blends. Entries past the batch move to the front.
   static void flush(ShadeQueue& q) {
     if (q.n == 0) return;
-    const int n = q.n;
-    q.n = 0;
+    const int n = std::min(q.n, kShaderBatch);
     const DrawShading& sh = *q.shading;
-    for (int l = n; l < kShaderBatch; ++l) {
-      q.in.x[l] = q.in.y[l] = 0.0f;
-      for (int k = 0; k < sh.varyings; ++k) q.in.varying[k][l] = 0.0f;
-    }
-    if (sh.derivatives) {
-      for (int k = 0; k < sh.varyings; ++k) {
-        std::fill(q.in.ddx[k] + n, q.in.ddx[k] + kShaderBatch, 0.0f);
-        std::fill(q.in.ddy[k] + n, q.in.ddy[k] + kShaderBatch, 0.0f);
+    ShaderInput in;
+    const auto take = [&](const float* from, float* to) {
+      for (int j = 0; j < kBatchVectors; ++j) {
+        const auto kept = M::floats(lanes_below(n - j * L));
+        xsimd::select(kept, F::load_aligned(from + j * L), F(0.0f)).store_aligned(to + j * L);
       }
+    };
+    take(q.x, in.x);
+    take(q.y, in.y);
+    for (int k = 0; k < sh.varyings; ++k) take(q.varying[k], in.varying[k]);
+    for (int k = 0; sh.derivatives && k < sh.varyings; ++k) {
+      take(q.ddx[k], in.ddx[k]);
+      take(q.ddy[k], in.ddy[k]);
     }
-    q.in.active = static_cast<std::uint32_t>((std::uint64_t{1} << n) - 1);
-    q.in.front_facing = q.front_facing;
-    q.front_facing = 0;
-    q.in.varying_count = sh.varyings;
+    in.active = static_cast<std::uint32_t>((std::uint64_t{1} << n) - 1);
+    in.front_facing = static_cast<std::uint32_t>(q.front_facing) & in.active;
+    in.varying_count = sh.varyings;
     ShaderOutput res;
-    sh.function(sh.state, q.in, res);
+    sh.function(sh.state, in, res);
     I packed[kBatchVectors];
     pack_output(res, packed);
+    if (q.blend) {
+      write_each(q, n, packed);
+    } else if constexpr (M::kScatter) {
+      write_scattered(q, n, packed);
+    } else {
+      write_masked(q, n, packed);
+    }
+    // The overflow of the last append (fewer than kShaderBatch entries) to the front.
+    const int rest = q.n - n;
+    q.n = rest;
+    q.front_facing >>= n;
+    if (rest == 0) return;
+    const auto move = [&](float* row) {
+      for (int j = 0; j < kBatchVectors; ++j)
+        F::load_aligned(row + kShaderBatch + j * L).store_aligned(row + j * L);
+    };
+    move(q.x);
+    move(q.y);
+    for (int k = 0; k < sh.varyings; ++k) move(q.varying[k]);
+    for (int k = 0; sh.derivatives && k < sh.varyings; ++k) {
+      move(q.ddx[k]);
+      move(q.ddy[k]);
+    }
+    for (int j = 0; j < kBatchVectors; ++j) {
+      I::load_aligned(q.color + kShaderBatch + j * L).store_aligned(q.color + j * L);
+      I::load_aligned(q.samples + kShaderBatch + j * L).store_aligned(q.samples + j * L);
+    }
+  }
+
+  // The first n queued entries' colours written entry by entry, in queue order, to each sample
+  // the entry passed, blended when the draw blends.
+  static void write_each(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
     alignas(64) std::int32_t c[kShaderBatch];
     for (int j = 0; j < kBatchVectors; ++j) packed[j].store_aligned(c + j * L);
     for (int l = 0; l < n; ++l) {
-      for (std::uint32_t bits = q.samples[l]; bits; bits &= bits - 1) {
-        std::uint32_t* word = q.color[l] + std::countr_zero(bits) * kBlockPixels;
-        const auto src = std::bit_cast<Rgba8>(c[l]);
+      std::uint32_t* first = q.color_base + q.color[l];
+      const auto src = std::bit_cast<Rgba8>(c[l]);
+      for (std::uint32_t bits = static_cast<std::uint32_t>(q.samples[l]); bits; bits &= bits - 1) {
+        std::uint32_t* word = first + std::countr_zero(bits) * kBlockPixels;
         *word = std::bit_cast<std::uint32_t>(
             q.blend ? shade::blend_over(src, std::bit_cast<Rgba8>(*word)) : src);
       }
     }
   }
+  // The same without blending, every sample an entry may write rewritten, with its old value
+  // where it did not pass (by arithmetic, so that the compiler makes no branch of it).
+  static void write_masked(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
+    alignas(64) std::int32_t c[kShaderBatch];
+    for (int j = 0; j < kBatchVectors; ++j) packed[j].store_aligned(c + j * L);
+    for (int l = 0; l < n; ++l) {
+      std::uint32_t* first = q.color_base + q.color[l];
+      const auto src = static_cast<std::uint32_t>(c[l]);
+      const auto bits = static_cast<std::uint32_t>(q.samples[l]);
+      for (int k = 0; k < q.span; ++k) {
+        std::uint32_t* word = first + k * kBlockPixels;
+        const std::uint32_t keep = (bits >> k & 1u) - 1u;  // all ones where k did not pass
+        *word = src ^ ((src ^ *word) & keep);
+      }
+    }
+  }
+  // The same without blending, one scatter per sample index: the lanes' order keeps the queue's
+  // where two entries write one sample, and no branch depends on how many samples passed.
+  static void write_scattered(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
+    auto* base = reinterpret_cast<std::int32_t*>(q.color_base);
+    for (int j = 0; j < kBatchVectors; ++j) {
+      const std::uint32_t queued = lanes_below(n - j * L);
+      const I index = I::load_aligned(q.color + j * L);
+      const I samples = I::load_aligned(q.samples + j * L);
+      for (int k = 0; k < q.span; ++k) {
+        const std::uint32_t lanes = M::bits((samples & I(1 << k)) != I(0)) & queued;
+        M::scatter(base, index + I(k * kBlockPixels), packed[j], lanes);
+      }
+    }
+  }
 
-  /// Bit k set where sample k of block pixel p passed. The common 4x count is unrolled: the
-  /// loop over a run-time count cost more than the rest of queueing the pixel.
-  static std::uint32_t samples_passed(const std::uint64_t* passed, int S, int p) {
-    const auto bit = [&](int k) { return static_cast<std::uint32_t>((passed[k] >> p) & 1) << k; };
-    if (S == 4) return bit(0) | bit(1) | bit(2) | bit(3);
-    std::uint32_t samples = 0;
-    for (int k = 0; k < S; ++k) samples |= bit(k);
+  /// The lowest `count` lanes' bits (none if count <= 0, all if count >= L).
+  static std::uint32_t lanes_below(int count) {
+    if (count <= 0) return 0;
+    return count >= L ? kLaneBits : (1u << count) - 1;
+  }
+
+  /// Per lane of block vector v, bit k set where sample k of its pixel passed. The common 4x
+  /// count is unrolled.
+  static I samples_passed(const Lanes& ln, const std::uint64_t* passed, int S, int v) {
+    const auto sample = [&](int k) {
+      const I word(static_cast<std::int32_t>(passed[k] >> (v * L)));
+      return xsimd::select((word & ln.lane_bit) != I(0), I(1 << k), I(0));
+    };
+    if (S == 4) return (sample(0) | sample(1)) | (sample(2) | sample(3));
+    I samples(0);
+    for (int k = 0; k < S; ++k) samples = samples | sample(k);
     return samples;
   }
 
   /// The partly covered batch g of a block, into the queue: each pixel with a passed sample, at
   /// its centre with the samples that passed (MSAA), or, under SSAA, sample s of each pixel in
-  /// `bits` at the sample's position.
+  /// `bits` at the sample's position. `color` is the index of the block's first colour sample in
+  /// the queue's color_base.
   static void enqueue_batch(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t, int g,
-                            bool ssaa, int S, int s, std::uint32_t bits, std::uint32_t* cblk,
-                            int px0, int py0, const std::uint64_t* passed) {
-    const auto fx_blk = static_cast<float>(px0), fy_blk = static_cast<float>(py0);
+                            bool ssaa, int S, int s, std::uint32_t bits, std::int32_t color,
+                            F fx_blk, F fy_blk, const std::uint64_t* passed) {
     const std::uint32_t front = front_lanes(t);
-    for (; bits; bits &= bits - 1) {
-      const int p = g * kShaderBatch + std::countr_zero(bits);
-      const auto col = static_cast<float>(p % raster::kBlockSize);
-      const auto row = static_cast<float>(p / raster::kBlockSize);
+    // Every vector of the batch is appended, empty ones too (they add no entry): whether a
+    // vector is empty is data, and a branch on it mispredicted more than the work costs.
+    for (int j = 0; j < kBatchVectors; ++j) {
+      const std::uint32_t lanes = (bits >> (j * L)) & kLaneBits;
+      const int v = g * kBatchVectors + j;
+      const F x = fx_blk + ln.colf[v], y = fy_blk + ln.rowf[v];
       if (ssaa) {
-        enqueue(q, t, ln.planes, (fx_blk + col) + ln.oxs[s], (fy_blk + row) + ln.oys[s],
-                cblk + s * kBlockPixels + p, 1u, front);
-        continue;
+        append(q, t, ln.planes, lanes, x + ln.ox[s], y + ln.oy[s],
+               I(color + s * kBlockPixels) + ln.pixel[v], I(1), front);
+      } else {
+        append(q, t, ln.planes, lanes, x + F(0.5f), y + F(0.5f), I(color) + ln.pixel[v],
+               samples_passed(ln, passed, S, v), front);
       }
-      enqueue(q, t, ln.planes, (fx_blk + col) + 0.5f, (fy_blk + row) + 0.5f, cblk + p,
-              samples_passed(passed, S, p), front);
     }
+    if (q.n >= kShaderBatch) flush(q);
   }
 
   // Colours a block of a generic draw where its samples passed: per pixel at the pixel centre
@@ -284,8 +375,11 @@ struct ShadeSimd : simd::LaneTypes<A> {
       flush(q);
       q.shading = &sh;
       q.blend = blend;
+      q.span = ssaa ? 1 : S;
     }
     const F fx_blk(static_cast<float>(px0)), fy_blk(static_cast<float>(py0));
+    // The block's first colour sample as a queue entry's index, for a queued shader.
+    const auto first = queued ? static_cast<std::int32_t>(cblk - q.color_base) : 0;
     // Pixels with a passed sample, once for the block: only their batches are visited.
     std::uint64_t any_pixel = 0;
     for (int s = 0; s < S; ++s) any_pixel |= passed[s];
@@ -295,7 +389,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
       const auto any = static_cast<std::uint32_t>(any_pixel >> shift) & kBatchBits;
       any_pixel &= ~(std::uint64_t{kBatchBits} << shift);
       if (queued && !ssaa && any != kBatchBits) {
-        enqueue_batch(q, ln, t, g, false, S, 0, any, cblk, px0, py0, passed);
+        enqueue_batch(q, ln, t, g, false, S, 0, any, first, fx_blk, fy_blk, passed);
         continue;
       }
       if (queued && !ssaa) flush(q);
@@ -307,7 +401,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
         if (!bits) continue;
         if (queued && ssaa) {
           if (bits != kBatchBits) {
-            enqueue_batch(q, ln, t, g, true, S, s, bits, cblk, px0, py0, passed);
+            enqueue_batch(q, ln, t, g, true, S, s, bits, first, fx_blk, fy_blk, passed);
             continue;
           }
           flush(q);
