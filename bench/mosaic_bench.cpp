@@ -67,11 +67,11 @@ constexpr int kStageSamples = 4;
 /// ~90 ms, random-small ~350 ms, star ~90 ms, fan ~60 ms); slivers takes ~4.6 s and
 /// random-large longer, so they are left out of the speed-up table.
 const char* const kIsaScenes[] = {"default", "random-small", "star", "fan"};
-/// The dense-mesh scenes (1 M triangles, 50–200 ms a frame): each repetition times a fixed
-/// kMeshFrameIterations frames instead of searching for kFrameMinTime (which ran 2–5 frames
+/// The dense-mesh scenes (65k to 2 M triangles, 10–300 ms a frame): each repetition times a
+/// fixed kMeshFrameIterations frames instead of searching for kFrameMinTime (which ran 2–5 frames
 /// after a probe), and they have no isolated stage cases (their frames' FrameStats split the
-/// stages), so that they add about 40 s to a REPS=7 run.
-const char* const kMeshScenes[] = {"knot", "knot-100px", "knot-30px"};
+/// stages).
+const char* const kMeshScenes[] = {"knot", "knot-100px", "knot-30px", "knot-65k", "knot-2m"};
 constexpr int kMeshFrameIterations = 2;
 
 /// Minimum time per repetition: long enough that a 3 ms frame is timed ~60 times, short enough

@@ -112,10 +112,10 @@ void expect_flat_screen_mesh(const Scene& s, std::size_t triangles) {
   }
 }
 
-TEST(BuiltinScenes, NamesAreTheDocumentedNine) {
-  const std::vector<std::string> expected{"default", "random-small", "random-large",
-                                          "slivers", "star",         "fan",
-                                          "knot",    "knot-100px",   "knot-30px"};
+TEST(BuiltinScenes, NamesAreTheDocumentedEleven) {
+  const std::vector<std::string> expected{"default",   "random-small", "random-large", "slivers",
+                                          "star",      "fan",          "knot",         "knot-100px",
+                                          "knot-30px", "knot-65k",     "knot-2m"};
   EXPECT_EQ(builtin_scene_names(), expected);
 }
 
@@ -426,7 +426,7 @@ TEST(BuiltinScenes, ReferenceRendersMatchGoldens) {
   }
 }
 
-// ---- the knot scenes: one closed mesh of 1 M triangles at three sizes ----
+// ---- the knot scenes: one closed mesh of 1 M triangles at three sizes, 65k and 2 M ----
 
 /// The knot's documented parameters (scenes/builtin.cpp): a (2, 3) torus knot, tube radius 0.4.
 constexpr int kKnotTriangles = 1'048'576, kKnotVertices = 524'288;
@@ -452,32 +452,29 @@ Box projected_box(const Scene& s) {
   return b;
 }
 
-TEST(KnotScenes, OneIndexedClosedConsistentlyWoundMeshOfAMillionTriangles) {
-  const Scene s = builtin_scene("knot", 1920, 1080, 1);
-  ASSERT_EQ(s.meshes.size(), 1u);
-  const Mesh& m = s.meshes[0];
-  EXPECT_EQ(m.space, Space::kClip);
-  EXPECT_EQ(m.color_source, ColorSource::kPerVertex);
-  ASSERT_EQ(s.triangle_count(), std::size_t{kKnotTriangles});
-  ASSERT_GE(s.triangle_count(), 1'000'000u);
-  // Indexed, with shared vertices: two triangles per vertex, as on a closed surface of genus 1.
-  ASSERT_EQ(m.positions.size(), std::size_t{kKnotVertices});
+/// An indexed torus grid: `vertices` shared vertices, each used by six triangles (a regular
+/// quad grid cut into triangles, two triangles per vertex as on a closed surface of genus 1); with
+/// `edges`, also closed and consistently wound (each directed edge once, and its reverse once).
+void expect_closed_grid(const Mesh& m, std::size_t vertices, bool edges_too) {
+  const std::size_t triangles = m.triangle_count();
+  ASSERT_EQ(triangles, 2 * vertices);
+  ASSERT_EQ(m.positions.size(), vertices);
   ASSERT_EQ(m.colors.size(), m.positions.size());
-  ASSERT_EQ(m.indices.size(), 3 * s.triangle_count());
+  ASSERT_EQ(m.normals.size(), m.positions.size());
+  ASSERT_EQ(m.indices.size(), 3 * triangles);
   std::vector<std::uint32_t> uses(m.positions.size());
   for (const std::uint32_t i : m.indices) {
     ASSERT_LT(i, m.positions.size());
     ++uses[i];
   }
-  // Every vertex is used, by six triangles (a regular quad grid cut into triangles).
   EXPECT_EQ(*std::min_element(uses.begin(), uses.end()), 6u);
   EXPECT_EQ(*std::max_element(uses.begin(), uses.end()), 6u);
-
-  // Closed and consistently wound: each directed edge once, and its reverse once. Then every
-  // undirected edge has exactly two triangles, which traverse it in opposite directions.
+  if (!edges_too) return;
+  // Then every undirected edge has exactly two triangles, which traverse it in opposite
+  // directions.
   std::vector<std::uint64_t> edges;
   edges.reserve(m.indices.size());
-  for (std::size_t t = 0; t < s.triangle_count(); ++t) {
+  for (std::size_t t = 0; t < triangles; ++t) {
     const std::uint32_t* v = &m.indices[3 * t];
     ASSERT_TRUE(v[0] != v[1] && v[1] != v[2] && v[2] != v[0]) << t;
     for (int k = 0; k < 3; ++k) edges.push_back(std::uint64_t{v[k]} << 32 | v[(k + 1) % 3]);
@@ -488,6 +485,17 @@ TEST(KnotScenes, OneIndexedClosedConsistentlyWoundMeshOfAMillionTriangles) {
   for (const std::uint64_t e : edges)
     if (!std::binary_search(edges.begin(), edges.end(), (e << 32) | (e >> 32))) ++unmatched;
   EXPECT_EQ(unmatched, 0u) << "edges with one triangle only (a hole)";
+}
+
+TEST(KnotScenes, OneIndexedClosedConsistentlyWoundMeshOfAMillionTriangles) {
+  const Scene s = builtin_scene("knot", 1920, 1080, 1);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const Mesh& m = s.meshes[0];
+  EXPECT_EQ(m.space, Space::kClip);
+  EXPECT_EQ(m.color_source, ColorSource::kPerVertex);
+  ASSERT_EQ(s.triangle_count(), std::size_t{kKnotTriangles});
+  ASSERT_GE(s.triangle_count(), 1'000'000u);
+  expect_closed_grid(m, kKnotVertices, true);
 
   // In front of the camera, depth in [0, 1], and a perspective projection (w varies).
   float w_min = 1e30f, w_max = 0;
@@ -511,6 +519,19 @@ TEST(KnotScenes, OneIndexedClosedConsistentlyWoundMeshOfAMillionTriangles) {
   EXPECT_GT(colors.size(), 150u);
   EXPECT_LT(darkest, 50);
   EXPECT_GT(brightest, 200);
+}
+
+TEST(KnotScenes, TheSmallAndTheLargeKnotAreClosedGridsOfTheirCounts) {
+  // knot-65k: 512 x 64 segments; knot-2m: 4096 x 256 (its edges are not sorted: the 1 M knot's
+  // are, and the generator is the same).
+  const Scene small = builtin_scene("knot-65k", kW, kH, 1);
+  ASSERT_EQ(small.meshes.size(), 1u);
+  EXPECT_EQ(small.triangle_count(), 65'536u);
+  expect_closed_grid(small.meshes[0], 32'768, true);
+  const Scene large = builtin_scene("knot-2m", kW, kH, 1);
+  ASSERT_EQ(large.meshes.size(), 1u);
+  EXPECT_EQ(large.triangle_count(), 2'097'152u);
+  expect_closed_grid(large.meshes[0], 1'048'576, false);
 }
 
 TEST(KnotScenes, OutwardFacingTubeOfTheStatedRadius) {
@@ -550,7 +571,7 @@ TEST(KnotScenes, TrianglesFacingTheCameraAreCounterClockwiseOnScreen) {
   // FrontFace::kCounterClockwise, mosaic's default front face, is counter-clockwise on screen:
   // a negative area in y-down pixels (front/setup.cpp). Facing is decided in world space, from
   // the camera's position and each triangle's normal, on triangles not nearly edge-on.
-  for (const char* name : {"knot", "knot-100px", "knot-30px"}) {
+  for (const char* name : {"knot", "knot-100px", "knot-30px", "knot-65k"}) {
     const Scene s = builtin_scene(name, kW, kH, 1);
     const Mesh& m = s.meshes.at(0);
     const glm::dmat4 to_world = glm::inverse(glm::dmat4(s.camera.view_projection));
@@ -596,8 +617,15 @@ TEST(KnotScenes, OneMeshMovedToThreeSizes) {
 TEST(KnotScenes, ProjectionsHaveTheStatedSizeAndAreCentred) {
   for (const auto& [w, h] :
        std::vector<std::pair<int, int>>{{1920, 1080}, {640, 480}, {333, 201}, {3840, 2160}}) {
-    for (const auto& [name, width] : std::vector<std::pair<const char*, double>>{
-             {"knot-100px", 100.0}, {"knot-30px", 30.0}, {"knot", 0.0}}) {
+    struct Size {
+      const char* name;
+      double width;  ///< px, or 0: the scene fills `fill` of the side that binds first
+      double fill;
+    };
+    for (const auto& [name, width, fill] : std::vector<Size>{{"knot-100px", 100.0, 0.0},
+                                                             {"knot-30px", 30.0, 0.0},
+                                                             {"knot", 0.0, 0.9},
+                                                             {"knot-65k", 0.0, 0.72}}) {
       SCOPED_TRACE(std::string(name) + " at " + std::to_string(w) + "x" + std::to_string(h));
       const Scene s = builtin_scene(name, w, h, 1);
       const Box b = projected_box(s);
@@ -609,10 +637,10 @@ TEST(KnotScenes, ProjectionsHaveTheStatedSizeAndAreCentred) {
         EXPECT_GT(b.height(), 0.5 * width);
         EXPECT_LT(b.height(), 1.5 * width);
       } else {
-        // `knot` fills 90 % of the side that binds first, and fits the other.
-        EXPECT_NEAR(std::max(b.width() / w, b.height() / h), 0.9, 1e-3);
-        EXPECT_LE(b.width(), 0.9001 * w);
-        EXPECT_LE(b.height(), 0.9001 * h);
+        // It fills `fill` of the side that binds first, and fits the other.
+        EXPECT_NEAR(std::max(b.width() / w, b.height() / h), fill, 1e-3);
+        EXPECT_LE(b.width(), (fill + 1e-4) * w);
+        EXPECT_LE(b.height(), (fill + 1e-4) * h);
       }
     }
   }
@@ -623,7 +651,9 @@ TEST(KnotScenes, ProjectionsHaveTheStatedSizeAndAreCentred) {
 TEST(KnotScenes, SceneBitsMatchGoldens) {
   const std::pair<const char*, std::uint64_t> kHashes[] = {{"knot", 0x54e83cc5198b14eeull},
                                                            {"knot-100px", 0x73de2669d9c9361eull},
-                                                           {"knot-30px", 0xf72d5d702edb879cull}};
+                                                           {"knot-30px", 0xf72d5d702edb879cull},
+                                                           {"knot-65k", 0xc51bc5cefe70a585ull},
+                                                           {"knot-2m", 0x1607ffabec822fa2ull}};
   for (const auto& [name, hash] : kHashes) {
     const std::uint64_t got = content_hash(builtin_scene(name, kW, kH, 1));
     EXPECT_EQ(got, hash) << name << ": 0x" << std::hex << got;
@@ -708,7 +738,8 @@ INSTANTIATE_TEST_SUITE_P(
     Scenes, KnotRender,
     ::testing::Values(KnotRenderCase{"knot", kW, kH, 4, 0x19757d5d504d7117ull, true, true},
                       KnotRenderCase{"knot-100px", 157, 131, 1, 0x0be8ef59f6c9b3cbull, false, true},
-                      KnotRenderCase{"knot-30px", 64, 48, 4, 0x96ea470f8cad7dcbull, false, false}),
+                      KnotRenderCase{"knot-30px", 64, 48, 4, 0x96ea470f8cad7dcbull, false, false},
+                      KnotRenderCase{"knot-65k", kW, kH, 4, 0xd613d51bfea7a913ull, false, true}),
     [](const ::testing::TestParamInfo<KnotRenderCase>& param) {
       std::string n = param.param.scene;
       std::replace(n.begin(), n.end(), '-', '_');

@@ -98,10 +98,11 @@ struct Scene {
 };
 
 /// Names of the built-in scenes: default, random-small, random-large, slivers, star, fan, knot,
-/// knot-100px, knot-30px. The knot scenes are one closed, indexed torus knot of 1,048,576
-/// triangles in perspective: `knot` fills 90 % of the target's width or height (whichever binds
-/// first), `knot-100px` and `knot-30px` are that many pixels wide on any target size; all three
-/// are centred.
+/// knot-100px, knot-30px, knot-65k, knot-2m. The knot scenes are one closed, indexed torus knot
+/// in perspective, centred: `knot` (1,048,576 triangles) fills 90 % of the target's width or
+/// height (whichever binds first), `knot-100px` and `knot-30px` are the same mesh that many
+/// pixels wide on any target size, `knot-65k` (65,536 triangles, a scanned model's size) fills
+/// 72 % (its box is a third of a 16:9 frame's area), and `knot-2m` (2,097,152) fills 90 %.
 std::vector<std::string> builtin_scene_names();
 
 /// A built-in scene made for a width × height target; deterministic for a given name, size and

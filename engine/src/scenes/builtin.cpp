@@ -1,5 +1,6 @@
 // scenes/builtin.cpp — the built-in scenes: a showcase, stress cases, test patterns, and a dense
-// closed mesh (a torus knot of 1 M triangles) at three sizes.
+// closed mesh (a torus knot): 1 M triangles at three sizes, 65k filling a third of the frame, and
+// 2 M filling it.
 //
 // Takes: a scene name, a target size and a seed. Gives: a Scene whose bits depend only on those
 // three (every platform, every standard library): randomness comes from splitmix64
@@ -472,9 +473,13 @@ Scene showcase(Scene scene) {
 
 /// The (p, q) torus knot of the `knot` scenes: p turns about the y axis, q through the hole.
 constexpr int kKnotP = 2, kKnotQ = 3;
-/// Segments along the curve (U) and around the tube (V): 2·U·V = 1,048,576 triangles on U·V =
-/// 524,288 shared vertices.
-constexpr int kKnotU = 2048, kKnotV = 256;
+/// Segments along the curve (u) and around the tube (v): 2·u·v triangles on u·v shared
+/// vertices. `knot`: 1,048,576 triangles; `knot-65k` a scanned-model-sized 65,536 (a sixteenth,
+/// each side a quarter as many segments); `knot-2m` 2,097,152 (twice the segments along).
+struct KnotMesh {
+  int u, v;
+};
+constexpr KnotMesh kKnot1M{2048, 256}, kKnot65k{512, 64}, kKnot2M{4096, 256};
 /// Tube radius against a curve radius of 2 ± 1 (thick, yet the strands never touch), and the
 /// radial noise of every vertex as a fraction of it (about a fifth of the shorter edge).
 constexpr double kKnotTube = 0.4, kKnotNoise = 0.005;
@@ -484,8 +489,9 @@ constexpr double kKnotBound = 3.0 + kKnotTube * (1.0 + kKnotNoise);
 constexpr std::uint64_t kKnotSeed = 0x6b6e6f74;  // "knot"
 /// The camera looks down at the knot from this angle above its plane (radians, 50°).
 constexpr double kKnotElevation = 50.0 * kPi / 180.0;
-/// `knot` fills this fraction of the target's width or height, whichever binds first.
-constexpr double kKnotFill = 0.9;
+/// `knot` and `knot-2m` fill this fraction of the target's width or height, whichever binds
+/// first; `knot-65k` fills kKnotThirdFill: its box is then a third of a 16:9 target's area.
+constexpr double kKnotFill = 0.9, kKnotThirdFill = 0.72;
 /// The camera is never nearer than this many bounding radii: near plane well clear of the mesh.
 constexpr double kKnotMinDistance = 3.0;
 /// Vertical focal length that sets the camera distance of the px-sized scenes (58° field).
@@ -495,10 +501,10 @@ constexpr double kKnotFocal = 1.8;
 /// the curve (vertex i·V + j is ring i, side j). The noise restarts from kKnotSeed on every
 /// call, so two calls give the same vertices: the scene walks them twice instead of storing them.
 template <class F>
-void for_each_knot_vertex(const std::vector<glm::dvec2>& around, F&& f) {
+void for_each_knot_vertex(KnotMesh mesh, const std::vector<glm::dvec2>& around, F&& f) {
   Rng rng(kKnotSeed);
-  for (int i = 0; i < kKnotU; ++i) {
-    const double t = kTwoPi * i / kKnotU;
+  for (int i = 0; i < mesh.u; ++i) {
+    const double t = kTwoPi * i / mesh.u;
     const glm::dvec2 cp = cos_sin(kKnotP * t), cq = cos_sin(kKnotQ * t);
     const double r = 2.0 + cq.x, dr = -kKnotQ * cq.y;
     const glm::dvec3 c(r * cp.x, cq.y, r * cp.y);
@@ -507,7 +513,7 @@ void for_each_knot_vertex(const std::vector<glm::dvec2>& around, F&& f) {
         glm::dvec3(dr * cp.x - r * kKnotP * cp.y, kKnotQ * cq.x, dr * cp.y + r * kKnotP * cp.x));
     const glm::dvec3 n = glm::normalize(glm::cross(tangent, glm::dvec3(0, 1, 0)));
     const glm::dvec3 b = glm::cross(tangent, n);
-    for (int j = 0; j < kKnotV; ++j) {
+    for (int j = 0; j < mesh.v; ++j) {
       const glm::dvec3 normal = around[j].x * n + around[j].y * b;  // the exact tube normal
       const double radius = kKnotTube * (1.0 + kKnotNoise * rng.uniform(-1.0, 1.0));
       f(c + radius * normal, normal);
@@ -516,10 +522,10 @@ void for_each_knot_vertex(const std::vector<glm::dvec2>& around, F&& f) {
 }
 
 /// The knot seen from above at kKnotElevation, centred. width_px > 0: its projection is
-/// width_px pixels wide on any target; 0: it fills kKnotFill of the target's width or height.
-Scene knot(Scene scene, double width_px) {
-  std::vector<glm::dvec2> around(kKnotV);  // the tube's cross-section, shared by every ring
-  for (int j = 0; j < kKnotV; ++j) around[j] = cos_sin(kTwoPi * j / kKnotV);
+/// width_px pixels wide on any target; 0: it fills `fill` of the target's width or height.
+Scene knot(Scene scene, KnotMesh mesh, double width_px, double fill = kKnotFill) {
+  std::vector<glm::dvec2> around(mesh.v);  // the tube's cross-section, shared by every ring
+  for (int j = 0; j < mesh.v; ++j) around[j] = cos_sin(kTwoPi * j / mesh.v);
   const double w = scene.width, h = scene.height;
   // Far enough for the stated width with a natural lens, never nearer than kKnotMinDistance.
   const double distance = width_px > 0
@@ -530,7 +536,7 @@ Scene knot(Scene scene, double width_px) {
                                   glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
   // First walk: the projection's extent per unit of focal length, x/-z and y/-z.
   glm::dvec2 lo(1e300), hi(-1e300);
-  for_each_knot_vertex(around, [&](const glm::dvec3& p, const glm::dvec3&) {
+  for_each_knot_vertex(mesh, around, [&](const glm::dvec3& p, const glm::dvec3&) {
     const glm::dvec3 v(view * glm::dvec4(p, 1.0));
     const glm::dvec2 s(v.x / -v.z, v.y / -v.z);
     lo = glm::min(lo, s);
@@ -539,7 +545,7 @@ Scene knot(Scene scene, double width_px) {
   // Pixels per unit of x/-z (square pixels): the stated width, or the fill of the target.
   const glm::dvec2 extent = hi - lo;
   const double px =
-      width_px > 0 ? width_px / extent.x : kKnotFill * std::min(w / extent.x, h / extent.y);
+      width_px > 0 ? width_px / extent.x : fill * std::min(w / extent.x, h / extent.y);
   const double near_plane = distance - 1.01 * kKnotBound, far_plane = distance + 1.01 * kKnotBound;
   glm::dmat4 proj = perspective(2.0 * px / h, w / h, near_plane, far_plane);
   // Move the box's centre to the middle of the viewport: its NDC offset times w (= -z in view).
@@ -560,11 +566,11 @@ Scene knot(Scene scene, double width_px) {
   Mesh m;
   m.space = Space::kClip;
   m.color_source = ColorSource::kPerVertex;
-  const std::size_t vertices = static_cast<std::size_t>(kKnotU) * kKnotV;
+  const std::size_t vertices = static_cast<std::size_t>(mesh.u) * mesh.v;
   m.positions.reserve(vertices);
   m.colors.reserve(vertices);
   m.normals.reserve(vertices);
-  for_each_knot_vertex(around, [&](const glm::dvec3& p, const glm::dvec3& normal) {
+  for_each_knot_vertex(mesh, around, [&](const glm::dvec3& p, const glm::dvec3& normal) {
     m.positions.push_back(glm::vec4(vp * glm::dvec4(p, 1.0)));
     m.normals.push_back(glm::vec3(normal));
     const double shade = kAmbient + kDiffuse * std::max(0.0, glm::dot(normal, light));
@@ -575,10 +581,10 @@ Scene knot(Scene scene, double width_px) {
   // Both loops wrap, so every edge has two triangles. Along +t then +v the quad turns inward
   // (dP/dt × dP/dv = -normal), so (a, c, b) and (a, d, c) are counter-clockwise from outside.
   m.indices.reserve(6 * vertices);
-  for (int i = 0; i < kKnotU; ++i) {
-    const std::uint32_t row = i * kKnotV, next = (i + 1) % kKnotU * kKnotV;
-    for (int j = 0; j < kKnotV; ++j) {
-      const std::uint32_t j1 = (j + 1) % kKnotV;
+  for (int i = 0; i < mesh.u; ++i) {
+    const std::uint32_t row = i * mesh.v, next = (i + 1) % mesh.u * mesh.v;
+    for (int j = 0; j < mesh.v; ++j) {
+      const std::uint32_t j1 = (j + 1) % mesh.v;
       const std::uint32_t a = row + j, b = next + j, c = next + j1, d = row + j1;
       for (const std::uint32_t k : {a, c, b, a, d, c}) m.indices.push_back(k);
     }
@@ -588,9 +594,9 @@ Scene knot(Scene scene, double width_px) {
 }
 
 const std::vector<std::string>& names() {
-  static const std::vector<std::string> kNames{"default", "random-small", "random-large",
-                                               "slivers", "star",         "fan",
-                                               "knot",    "knot-100px",   "knot-30px"};
+  static const std::vector<std::string> kNames{
+      "default", "random-small", "random-large", "slivers",  "star",   "fan",
+      "knot",    "knot-100px",   "knot-30px",    "knot-65k", "knot-2m"};
   return kNames;
 }
 
@@ -614,9 +620,11 @@ Scene builtin_scene(const std::string& name, int width, int height, std::uint64_
   if (name == "slivers") return slivers(std::move(scene), rng);
   if (name == "star") return star(std::move(scene));
   if (name == "fan") return fan(std::move(scene));
-  if (name == "knot") return knot(std::move(scene), 0);
-  if (name == "knot-100px") return knot(std::move(scene), 100);
-  if (name == "knot-30px") return knot(std::move(scene), 30);
+  if (name == "knot") return knot(std::move(scene), kKnot1M, 0);
+  if (name == "knot-100px") return knot(std::move(scene), kKnot1M, 100);
+  if (name == "knot-30px") return knot(std::move(scene), kKnot1M, 30);
+  if (name == "knot-65k") return knot(std::move(scene), kKnot65k, 0, kKnotThirdFill);
+  if (name == "knot-2m") return knot(std::move(scene), kKnot2M, 0);
   std::string known;
   for (const std::string& n : names()) known += (known.empty() ? "" : ", ") + n;
   throw Error(Errc::kInvalidArgument, "unknown scene '" + name + "' (known: " + known + ")");
