@@ -295,11 +295,19 @@ struct ShadeSimd : simd::LaneTypes<A> {
       std::uint32_t* first = q.color_base + q.color[l];
       const auto src = static_cast<std::uint32_t>(c[l]);
       const auto bits = static_cast<std::uint32_t>(q.samples[l]);
-      for (int k = 0; k < q.span; ++k) {
+      const auto write = [&](int k) {
         std::uint32_t* word = first + k * kBlockPixels;
         const std::uint32_t keep = (bits >> k & 1u) - 1u;  // all ones where k did not pass
         *word = src ^ ((src ^ *word) & keep);
+      };
+      if (q.span == 4) {  // the common count, unrolled
+        write(0);
+        write(1);
+        write(2);
+        write(3);
+        continue;
       }
+      for (int k = 0; k < q.span; ++k) write(k);
     }
   }
   // The same without blending, one scatter per sample index: the lanes' order keeps the queue's
