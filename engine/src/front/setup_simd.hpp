@@ -552,14 +552,17 @@ struct FrontEndSimd {
   static void store_varyings(const Results& r, int l, int nvary, std::vector<Plane>& planes,
                              TriangleSetup& ts) {
     ts.planes_base = static_cast<std::uint32_t>(planes.size());
-    planes.push_back(plane(r.q, l));
-    bool ok = is_finite(planes.back());
+    // One resize for the triangle's planes, then plain stores: a push_back per plane cost more
+    // than the planes' conversion.
+    planes.resize(planes.size() + 1 + static_cast<std::size_t>(nvary));
+    Plane* p = planes.data() + ts.planes_base;
+    p[0] = plane(r.q, l);
+    bool ok = is_finite(p[0]);
     for (int k = 0; k < nvary; ++k) {
-      planes.push_back(plane(r.vary_q[k], l));
-      ok = ok && is_finite(planes.back());
+      p[1 + k] = plane(r.vary_q[k], l);
+      ok = ok && is_finite(p[1 + k]);
     }
     if (ok) return;
-    Plane* p = planes.data() + ts.planes_base;
     p[0] = {1.0f, 0.0f, 0.0f};
     // Corner 0 is never swapped by the orientation.
     for (int k = 0; k < nvary; ++k) p[1 + k] = {static_cast<float>(r.vary[0][k][l]), 0.0f, 0.0f};
