@@ -243,7 +243,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     I packed[kBatchVectors];
     pack_output(res, packed);
     if (q.blend) {
-      write_each(q, n, packed);
+      write_blended(q, n, packed);
     } else if constexpr (M::kScatter) {
       write_scattered(q, n, packed);
     } else {
@@ -271,9 +271,9 @@ struct ShadeSimd : simd::LaneTypes<A> {
     }
   }
 
-  // The first n queued entries' colours written entry by entry, in queue order, to each sample
-  // the entry passed, blended when the draw blends.
-  static void write_each(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
+  // The first n queued entries' colours blended over each sample the entry passed, entry by
+  // entry in queue order (an entry may blend over an earlier one's colour).
+  static void write_blended(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
     alignas(64) std::int32_t c[kShaderBatch];
     for (int j = 0; j < kBatchVectors; ++j) packed[j].store_aligned(c + j * L);
     for (int l = 0; l < n; ++l) {
@@ -281,12 +281,11 @@ struct ShadeSimd : simd::LaneTypes<A> {
       const auto src = std::bit_cast<Rgba8>(c[l]);
       for (std::uint32_t bits = static_cast<std::uint32_t>(q.samples[l]); bits; bits &= bits - 1) {
         std::uint32_t* word = first + std::countr_zero(bits) * kBlockPixels;
-        *word = std::bit_cast<std::uint32_t>(
-            q.blend ? shade::blend_over(src, std::bit_cast<Rgba8>(*word)) : src);
+        *word = std::bit_cast<std::uint32_t>(shade::blend_over(src, std::bit_cast<Rgba8>(*word)));
       }
     }
   }
-  // The same without blending, every sample an entry may write rewritten, with its old value
+  // The same without blending: every sample an entry may write is rewritten, with its old value
   // where it did not pass (by arithmetic, so that the compiler makes no branch of it).
   static void write_masked(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
     alignas(64) std::int32_t c[kShaderBatch];
