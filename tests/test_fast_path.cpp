@@ -560,6 +560,49 @@ TEST(FastPath, HierarchicalZTightensFromManySmallTriangles) {
   }
 }
 
+// A triangle hidden behind a whole tile is dropped before its blocks are visited, and its
+// rejected blocks are counted from the tile's block rectangles: every block its box meets that
+// holds pixels of the image and of the draw's scissor. The image's last blocks are partial, and
+// the tiles (8 to 128 px) cut the scissor on and between block edges.
+TEST(FastPath, HiddenTileCountsTheBlocksInsideImageAndScissor) {
+  const int w = 157, h = 131;
+  const int blocks_x = (w + 7) / 8, blocks_y = (h + 7) / 8;  // 20 × 17, partial at the edges
+  mosaic::Draw far;
+  far.space = mosaic::Space::kScreen;
+  far.color_source = mosaic::ColorSource::kPerTriangle;
+  // One triangle over the whole image, so that every tile bins it.
+  const float z = 0.75f;
+  const std::vector<glm::vec4> positions = {
+      {-4, -4, z, 1}, {2 * w + 8.0f, -4, z, 1}, {-4, 2 * h + 8.0f, z, 1}};
+  const std::vector<mosaic::Rgba8> colors = {{200, 40, 40, 255}};
+  far.positions = positions;
+  far.colors = colors;
+  // The scissor [13, 61) × [5, 70) meets block columns 1..7 and rows 0..8.
+  const mosaic::PixelRect scissor{13, 5, 48, 65};
+  for (bool scissored : {false, true}) {
+    far.state.scissor = scissored ? std::optional<mosaic::PixelRect>(scissor) : std::nullopt;
+    const std::uint64_t blocks = scissored ? 7 * 9 : std::uint64_t{blocks_x} * blocks_y;
+    for (Isa isa : simd_isas()) {
+      for (int tile : {8, 16, 32, 128}) {
+        const std::string what = std::string(mosaic::to_string(isa)) + ", tile " +
+                                 std::to_string(tile) + (scissored ? ", scissor" : "");
+        // The clear depth is nearer than the triangle: every tile hides it.
+        mosaic::RenderTarget target(w, h, 4, {true, true});
+        target.set_clear({10, 20, 30, 255}, 0.25f);
+        const mosaic::Draw draws[] = {far};
+        mosaic::Frame frame;
+        frame.draws = draws;
+        mosaic::Renderer r({.threads = 2, .isa = isa, .tile_size = tile});
+        const Result fast = mosaic::test::capture(r, frame, target);
+        EXPECT_EQ(fast.stats.blocks_hiz_rejected, blocks) << what;
+        EXPECT_EQ(fast.stats.samples_tested, 0u) << what;
+        mosaic::Renderer ref({.threads = 1, .isa = Isa::kReference});
+        expect_same(mosaic::test::capture(ref, frame, target), fast, what);
+      }
+    }
+  }
+}
+
 TEST(FastPath, HierarchicalZIsExactOnEveryPathAndEmptyWhenNotAsked) {
   const int w = 157, h = 131;  // partial blocks on the right and at the bottom
   for (Shape shape : {Shape::kSmall, Shape::kLarge, Shape::kHuge}) {

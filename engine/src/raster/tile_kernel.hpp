@@ -117,6 +117,13 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     /// rectangle (viewport ∩ scissor, front/draw_area.hpp) cuts the tile. Hierarchical z counts
     /// a block's samples from `valid`: samples outside the rectangle still hold depths.
     const std::uint64_t* cover = nullptr;
+    /// The blocks [x0, x1) × [y0, y1) where `cover` is not empty (the image and clip rectangle
+    /// cut a tile in rectangles), for valid and for sc.clipped: a triangle hidden in the whole
+    /// tile counts its rejected blocks from them, without reading `cover`.
+    struct BlockRect {
+      int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+    };
+    BlockRect cover_blocks{}, valid_blocks{}, clipped_blocks{};
     PixelRect clipped_rect{};  ///< the rectangle (target pixels) sc.clipped was made for
     bool clipped_made = false;
   };
@@ -228,9 +235,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
       }
       if (hidden) {
-        for (int by = byb; by < bye; ++by)
-          for (int bx = bxb; bx < bxe; ++bx)
-            cx.st.blocks_hiz_rejected += cx.cover[by * cx.side + bx] != 0;
+        const typename Context::BlockRect& c = cx.cover_blocks;
+        const int w = std::min(bxe, c.x1) - std::max(bxb, c.x0);
+        const int h = std::min(bye, c.y1) - std::max(byb, c.y0);
+        if (w > 0 && h > 0) cx.st.blocks_hiz_rejected += static_cast<std::uint64_t>(w) * h;
         return;
       }
     }
@@ -681,6 +689,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   static void clip_coverage(Context& cx, std::uint32_t draw) {
     const DrawState& ds = cx.f.states[draw];
     cx.cover = cx.valid;
+    cx.cover_blocks = cx.valid_blocks;
     if (!ds.viewport && !ds.scissor) return;
     const PixelRect r = front::DrawArea::of(ds, cx.f.width, cx.f.height).in_target();
     const TileRect& tile = cx.tile;
@@ -688,7 +697,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         r.y + r.height >= tile.y0 + tile.height)
       return;
     cx.cover = cx.sc.clipped;
-    if (cx.clipped_made && cx.clipped_rect == r) return;
+    if (cx.clipped_made && cx.clipped_rect == r) {
+      cx.cover_blocks = cx.clipped_blocks;
+      return;
+    }
     for (int blk = 0; blk < cx.blocks; ++blk) {
       const int px0 = tile.x0 + (blk % cx.side) * kBlockSize;
       const int py0 = tile.y0 + (blk / cx.side) * kBlockSize;
@@ -701,8 +713,22 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       for (int y = r0; y < r1; ++y) m |= row << (y * kBlockSize);
       cx.sc.clipped[blk] = cx.valid[blk] & m;
     }
+    cx.clipped_blocks = cx.cover_blocks = nonempty_blocks(cx, cx.sc.clipped);
     cx.clipped_rect = r;
     cx.clipped_made = true;
+  }
+
+  // The smallest block rectangle outside which every block of `cover` is empty; in a tile's
+  // image part and clip rectangle the nonempty blocks fill it.
+  static typename Context::BlockRect nonempty_blocks(const Context& cx,
+                                                     const std::uint64_t* cover) {
+    typename Context::BlockRect r{cx.side, 0, cx.side, 0};
+    for (int blk = 0; blk < cx.blocks; ++blk) {
+      if (!cover[blk]) continue;
+      const int bx = blk % cx.side, by = blk / cx.side;
+      r = {std::min(r.x0, bx), std::max(r.x1, bx + 1), std::min(r.y0, by), std::max(r.y1, by + 1)};
+    }
+    return r;
   }
 
   // The exact bounds of the depths a block of the tile holds (a block with image pixels).
@@ -799,6 +825,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         sc.zmax[blk] = -std::numeric_limits<float>::infinity();
       }
     }
+    cx.valid_blocks = nonempty_blocks(cx, cx.valid);
     if (f.load_color || f.load_depth) load_tile(cx);
     if (f.load_depth) {
       // Loaded depths: each block's bounds exact from them, the tile's the bounds of those.
