@@ -106,6 +106,7 @@ struct RenderOptions {
   std::string cull;
   bool painter = false;
   bool depth_only = false;
+  bool nearest_first = false;
   std::string shade;
   bool reserve = false;
   int repeat = 1;
@@ -205,6 +206,7 @@ int run_render(const RenderOptions& o) {
   frame.draws = draws;
   frame.ssaa = o.ssaa;
   frame.painter = o.painter;
+  frame.occluders_nearest_first = o.nearest_first;
 
   double ms_reserve = 0;
   if (o.reserve) {
@@ -236,14 +238,14 @@ int run_render(const RenderOptions& o) {
 
   if (out_path) write_image(target, *out_path);
 
-  std::string line = printable(name) + " " + std::to_string(target.width()) + "x" +
-                     std::to_string(target.height()) + " " + std::to_string(target.samples()) +
-                     "x" + (o.ssaa ? " ssaa" : "") + (o.painter ? " painter" : "") +
-                     (o.depth_only ? " depth-only" : "") +
-                     (shading == Shading::kFlat ? "" : " " + shading_name(shading)) + ": " +
-                     format_ms(ms_median) + " ms median of " + std::to_string(o.repeat) + " (" +
-                     to_string(last.isa) + ", " + std::to_string(last.threads) +
-                     (last.threads == 1 ? " thread)" : " threads)");
+  std::string line =
+      printable(name) + " " + std::to_string(target.width()) + "x" +
+      std::to_string(target.height()) + " " + std::to_string(target.samples()) + "x" +
+      (o.ssaa ? " ssaa" : "") + (o.painter ? " painter" : "") +
+      (o.depth_only ? " depth-only" : "") + (o.nearest_first ? " nearest-first" : "") +
+      (shading == Shading::kFlat ? "" : " " + shading_name(shading)) + ": " + format_ms(ms_median) +
+      " ms median of " + std::to_string(o.repeat) + " (" + to_string(last.isa) + ", " +
+      std::to_string(last.threads) + (last.threads == 1 ? " thread)" : " threads)");
   if (out_path) line += " -> " + printable(*out_path);
   std::cerr << line << '\n';
 
@@ -256,6 +258,7 @@ int run_render(const RenderOptions& o) {
     j["ssaa"] = o.ssaa;
     j["painter"] = o.painter;
     j["depth_only"] = o.depth_only;
+    j["nearest_first"] = o.nearest_first;
     j["shade"] = shading_name(shading);
     j["repeat"] = o.repeat;
     j["triangles_in"] = last.triangles_in;
@@ -325,6 +328,9 @@ Command add_render_command(CLI::App& parent) {
   app->add_flag("--depth-only", o->depth_only,
                 "Depth only: no draw writes colour (an occluder pass; the image is the clear "
                 "colour)");
+  app->add_flag("--nearest-first", o->nearest_first,
+                "Draw the occluders (depth-only draws that write depth) nearest first in each "
+                "tile (Frame::occluders_nearest_first): the same depth, fewer samples tested");
   app->add_option("--shade", o->shade,
                   "How meshes are coloured: flat (their colours), normals (vertex normals as "
                   "colours), lambert (the normals lit per pixel) or uv (texture coordinates as "

@@ -580,6 +580,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   tf.keep_depth = any_depth || frame.depth_load == LoadOp::kLoad;
   tf.load_color = frame.color_load == LoadOp::kLoad;
   tf.load_depth = frame.depth_load == LoadOp::kLoad;
+  tf.occluders_nearest_first = frame.occluders_nearest_first;
   if (tf.keep_color) {
     const RenderTarget::ImageSurface image = target.image_surface();
     tf.image = image.base;

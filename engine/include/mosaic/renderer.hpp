@@ -40,6 +40,13 @@ struct Frame {
   /// render() throws Error{kInvalidArgument}. A target not rendered yet holds its clear values.
   LoadOp color_load = LoadOp::kClear;
   LoadOp depth_load = LoadOp::kClear;
+  /// Occluders nearest first: each tile draws the triangles of consecutive occluder draws
+  /// (color_write off, depth_write on, a depth test of less / less-equal, or of greater /
+  /// greater-equal) in order of their nearest depth instead of submission order, so that
+  /// hierarchical z rejects the farther ones. Every sample still keeps the nearest of its depths,
+  /// so depth, image and hierarchical z are bit for bit those of submission order; the counters
+  /// of tested and written samples and of hierarchical-z blocks count the order drawn.
+  bool occluders_nearest_first = false;
 };
 
 /// One screen tile's share of a frame (FrameStats::tile_costs).

@@ -11,6 +11,7 @@
 #include <iterator>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "front/setup.hpp"
 #include "mosaic/draw.hpp"
@@ -99,6 +100,7 @@ struct TileFrame {
   /// ceil(width / 8) per row (Renderer::hierarchical_z()).
   float* hiz_min = nullptr;
   float* hiz_max = nullptr;
+  bool occluders_nearest_first = false;  ///< Frame::occluders_nearest_first
 };
 
 /// Counters one worker accumulates over its tiles.
@@ -137,6 +139,13 @@ struct TileScratch {
   alignas(64) std::uint64_t clipped[kMaxBlocksPerTile];
   /// The resolved tile, row-major, kMaxTileSize pixels a row whatever the tile's size.
   alignas(64) std::uint32_t resolved[kMaxTileSize * kMaxTileSize];
+  /// A group of occluder runs' triangles in the order a tile draws them
+  /// (Frame::occluders_nearest_first): the sort key, the run and the index in the run.
+  struct Occluder {
+    float key;
+    std::uint32_t run, index;
+  };
+  std::vector<Occluder> occluders;
 };
 
 /// A tile: its origin and its size inside the image (smaller than the frame's tile size at the

@@ -838,47 +838,146 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         cx.tile_zmax = std::max(cx.tile_zmax, sc.zmax[blk]);
       }
     }
-    for (const BinRun& run : bin) {
-      const std::span<const std::uint32_t> idx = run.indices;
-      cx.ln.planes = run.planes;
-      const bool mixed = run.draw == BinRun::kMixedDraws;
-      DrawKernels kernels = mixed ? DrawKernels{} : pick(f, run.draw);
-      if (!mixed) clip_coverage(cx, run.draw);
-      for (std::size_t k = 0; k < idx.size(); ++k) {
-        // A bin's triangles lie far apart in the setup arrays (a tile takes a sparse subset),
-        // so each is a cache miss: fetch the setup kPrefetchAhead triangles ahead while this one
-        // is drawn (the kernels read its first kPrefetchLines lines).
-        if (k + kPrefetchAhead < idx.size()) {
-          const char* p = reinterpret_cast<const char*>(&run.tris[idx[k + kPrefetchAhead]]);
-          for (int l = 0; l < kPrefetchLines; ++l) __builtin_prefetch(p + l * kCacheLine);
-        }
-        // The next triangle's setup was prefetched an iteration ago: if it has planes (colour
-        // or varyings), fetch their first kColorPlanes, which lie elsewhere (the chunk's plane
-        // array). mosaic-bench features/interpolated/4x (every triangle interpolated): 62.7 and
-        // 63.3 ms without, 58.9 and 59.4 ms with; flat random-small unchanged.
-        if (k + 1 < idx.size()) {
-          const front::TriangleSetup& next = run.tris[idx[k + 1]];
-          if (!front::is_flat(next)) {
-            const char* p = reinterpret_cast<const char*>(run.planes + next.planes_base);
-            __builtin_prefetch(p);
-            __builtin_prefetch(p + kColorPlaneBytes - 1);  // they may straddle two lines
-          }
-        }
-        const front::TriangleSetup& t = run.tris[idx[k]];
-        if (mixed) {
-          if (cx.queue.n && cx.queue.shading != &f.shading[t.draw()]) Sh::flush(cx.queue);
-          kernels = pick(f, t.draw());
-          clip_coverage(cx, t.draw());
-        }
-        (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
+    for (std::size_t r = 0; r < bin.size();) {
+      const int order = f.occluders_nearest_first ? occluder_order(f, bin[r]) : 0;
+      if (order == 0) {
+        draw_run(cx, bin[r++]);
+        continue;
       }
-      Sh::flush(cx.queue);
+      std::size_t e = r + 1;
+      while (e < bin.size() && occluder_order(f, bin[e]) == order) ++e;
+      draw_nearest_first(cx, bin.subspan(r, e - r), order);
+      r = e;
     }
     const auto r0 = std::chrono::steady_clock::now();
     resolve_tile(cx);
     st.resolve_ns += static_cast<std::uint64_t>(
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - r0)
             .count());
+  }
+
+  // Draws one bin run's triangles in submission order.
+  static void draw_run(Context& cx, const BinRun& run) {
+    const TileFrame& f = cx.f;
+    const std::span<const std::uint32_t> idx = run.indices;
+    cx.ln.planes = run.planes;
+    const bool mixed = run.draw == BinRun::kMixedDraws;
+    DrawKernels kernels = mixed ? DrawKernels{} : pick(f, run.draw);
+    if (!mixed) clip_coverage(cx, run.draw);
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+      // A bin's triangles lie far apart in the setup arrays (a tile takes a sparse subset),
+      // so each is a cache miss: fetch the setup kPrefetchAhead triangles ahead while this one
+      // is drawn (the kernels read its first kPrefetchLines lines).
+      if (k + kPrefetchAhead < idx.size()) {
+        const char* p = reinterpret_cast<const char*>(&run.tris[idx[k + kPrefetchAhead]]);
+        for (int l = 0; l < kPrefetchLines; ++l) __builtin_prefetch(p + l * kCacheLine);
+      }
+      // The next triangle's setup was prefetched an iteration ago: if it has planes (colour
+      // or varyings), fetch their first kColorPlanes, which lie elsewhere (the chunk's plane
+      // array). mosaic-bench features/interpolated/4x (every triangle interpolated): 62.7 and
+      // 63.3 ms without, 58.9 and 59.4 ms with; flat random-small unchanged.
+      if (k + 1 < idx.size()) {
+        const front::TriangleSetup& next = run.tris[idx[k + 1]];
+        if (!front::is_flat(next)) {
+          const char* p = reinterpret_cast<const char*>(run.planes + next.planes_base);
+          __builtin_prefetch(p);
+          __builtin_prefetch(p + kColorPlaneBytes - 1);  // they may straddle two lines
+        }
+      }
+      const front::TriangleSetup& t = run.tris[idx[k]];
+      if (mixed) {
+        if (cx.queue.n && cx.queue.shading != &f.shading[t.draw()]) Sh::flush(cx.queue);
+        kernels = pick(f, t.draw());
+        clip_coverage(cx, t.draw());
+      }
+      (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
+    }
+    Sh::flush(cx.queue);
+  }
+
+  // Whether a run's triangles may be drawn nearest first (Frame::occluders_nearest_first): +1
+  // for an occluder draw testing less or less-equal (the smallest depth is nearest), -1 for
+  // greater or greater-equal, 0 for any other run. Runs of one sign leave each sample the
+  // nearest of its depths in any order.
+  static int occluder_order(const TileFrame& f, const BinRun& run) {
+    if (run.draw == BinRun::kMixedDraws) return 0;
+    const DrawState& ds = f.states[run.draw];
+    if (ds.color_write || !ds.depth_write) return 0;
+    switch (ds.depth_test) {
+      case DepthTest::kLess:
+      case DepthTest::kLessEqual:
+        return 1;
+      case DepthTest::kGreater:
+      case DepthTest::kGreaterEqual:
+        return -1;
+      case DepthTest::kAlways:
+        break;
+    }
+    return 0;
+  }
+
+  // Whether the runs' triangles overlap enough in the tile to pay for sorting them (their areas,
+  // each at most its box in the tile, add up to kSortOverdraw tiles), and none may store -0.
+  static bool worth_sorting(const Context& cx, std::span<const BinRun> runs) {
+    const TileRect& tile = cx.tile;
+    double covered_px = 0;
+    for (const BinRun& run : runs) {
+      const std::span<const std::uint32_t> idx = run.indices;
+      for (std::size_t k = 0; k < idx.size(); ++k) {
+        if (k + kPrefetchAhead < idx.size()) {
+          const char* p = reinterpret_cast<const char*>(&run.tris[idx[k + kPrefetchAhead]]);
+          for (int l = 0; l < kPrefetchLines; ++l) __builtin_prefetch(p + l * kCacheLine);
+        }
+        const front::TriangleSetup& t = run.tris[idx[k]];
+        // A depth range reaching down to -0 may store -0 or +0 at a zero depth by the order.
+        if (std::signbit(t.z_min)) return false;
+        covered_px += std::min(area_px(t), box_px_in(t, tile));
+      }
+    }
+    return covered_px >= kSortOverdraw * static_cast<double>(tile.width) * tile.height;
+  }
+
+  // Draws the triangles of consecutive occluder runs of one order sign, nearest first: sorted by
+  // their nearest depth, ties in submission order, so the order is the same at any thread count.
+  // Runs not worth_sorting() are drawn in submission order.
+  static void draw_nearest_first(Context& cx, std::span<const BinRun> runs, int order) {
+    if (!worth_sorting(cx, runs)) {
+      for (const BinRun& run : runs) draw_run(cx, run);
+      return;
+    }
+    std::vector<TileScratch::Occluder>& items = cx.sc.occluders;
+    items.clear();
+    for (std::uint32_t r = 0; r < runs.size(); ++r) {
+      const std::span<const std::uint32_t> idx = runs[r].indices;
+      for (std::uint32_t k = 0; k < idx.size(); ++k) {
+        const front::TriangleSetup& t = runs[r].tris[idx[k]];
+        const float key = order > 0 ? t.z_min : -t.z_max;
+        items.push_back({std::isnan(key) ? std::numeric_limits<float>::infinity() : key, r, k});
+      }
+    }
+    std::sort(items.begin(), items.end(), [](const auto& p, const auto& q) {
+      return p.key < q.key ||
+             (p.key == q.key && (p.run < q.run || (p.run == q.run && p.index < q.index)));
+    });
+    std::uint32_t draw = BinRun::kMixedDraws;
+    DrawKernels kernels;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (i + kPrefetchAhead < items.size()) {
+        const TileScratch::Occluder& n = items[i + kPrefetchAhead];
+        const char* p =
+            reinterpret_cast<const char*>(&runs[n.run].tris[runs[n.run].indices[n.index]]);
+        for (int l = 0; l < kPrefetchLines; ++l) __builtin_prefetch(p + l * kCacheLine);
+      }
+      const BinRun& run = runs[items[i].run];
+      if (run.draw != draw) {
+        draw = run.draw;
+        kernels = pick(cx.f, draw);
+        clip_coverage(cx, draw);
+      }
+      cx.ln.planes = run.planes;
+      const front::TriangleSetup& t = run.tris[run.indices[items[i].index]];
+      (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
+    }
   }
 
   static constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {  // d > 0
@@ -888,11 +987,27 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     return n >= 0 ? (n + d - 1) / d : -((-n) / d);
   }
 
+  // A triangle's area in px²: its three edge functions sum to twice the area in 1/65536 px²
+  // everywhere (less one per excluded edge).
+  static double area_px(const front::TriangleSetup& t) {
+    const std::int64_t twice = t.edge[0].c + t.edge[1].c + t.edge[2].c;
+    return static_cast<double>(twice) / (2.0 * kSubpixel * kSubpixel);
+  }
+  // The pixels of a triangle's box inside the tile.
+  static double box_px_in(const front::TriangleSetup& t, const TileRect& tile) {
+    const int w = std::min(t.bx1, tile.x0 + tile.width) - std::max(t.bx0, tile.x0);
+    const int h = std::min(t.by1, tile.y0 + tile.height) - std::max(t.by0, tile.y0);
+    return w > 0 && h > 0 ? static_cast<double>(w) * h : 0.0;
+  }
+
   static constexpr std::int64_t kSubpixel = 256;  ///< one pixel in 16.8 units
   /// Triangles prefetched ahead: one is ~2000 instructions of work, enough to hide a miss to
   /// L3. Measured (random-small, depth-only 1x, AVX-512, raster stage): no prefetch 32.9 ms, 1 or 2
   /// ahead 24.5 ms, 6 ahead 31 ms.
   static constexpr std::size_t kPrefetchAhead = 2;
+  /// Occluders are sorted nearest first when their areas in the tile add up to this many times
+  /// the tile: below it, the hierarchical z rejects too little to pay for the sort.
+  static constexpr double kSortOverdraw = 2.0;
   static constexpr int kCacheLine = 64;
   /// Lines of a TriangleSetup the kernels read: edges, anchor, box, depth plane, colour, draw and
   /// planes_base, its last field (the setup is line-aligned). The draw's index was once on a third
