@@ -329,11 +329,10 @@ inline Captured render_draws(std::span<const Draw> draws, int width, int height,
   return capture(r, frame, target);
 }
 
-/// Bit equality of two captures of the same frame (depth compared as bits, so -0 and NaN
-/// payloads count), with the counters every path shares; `what` names the case in failures.
-inline void expect_same(const Captured& ref, const Captured& fast, const std::string& what) {
-  ASSERT_EQ(ref.stats.samples_written, fast.stats.samples_written) << what;
-  ASSERT_EQ(ref.stats.triangles_drawn, fast.stats.triangles_drawn) << what;
+/// Bit equality of the buffers of two captures of the same frame (depth compared as bits, so -0
+/// and NaN payloads count), whatever their counters; `what` names the case in failures.
+inline void expect_same_buffers(const Captured& ref, const Captured& fast,
+                                const std::string& what) {
   ASSERT_EQ(ref.sample_depth.size(), fast.sample_depth.size()) << what;
   ASSERT_EQ(ref.sample_color.size(), fast.sample_color.size()) << what;
   ASSERT_EQ(ref.color.size(), fast.color.size()) << what;
@@ -347,6 +346,13 @@ inline void expect_same(const Captured& ref, const Captured& fast, const std::st
   EXPECT_EQ(bad_depth, 0u) << what;
   EXPECT_EQ(bad_color, 0u) << what;
   EXPECT_EQ(bad_pixel, 0u) << what;
+}
+
+/// expect_same_buffers, with the counters every path shares.
+inline void expect_same(const Captured& ref, const Captured& fast, const std::string& what) {
+  ASSERT_EQ(ref.stats.samples_written, fast.stats.samples_written) << what;
+  ASSERT_EQ(ref.stats.triangles_drawn, fast.stats.triangles_drawn) << what;
+  expect_same_buffers(ref, fast, what);
 }
 
 /// The indices of a grid of cells × cells quads over (cells + 1)² row-major vertices, two

@@ -351,10 +351,19 @@ struct MultiResult {
   std::vector<float> hiz_min, hiz_max;
 };
 
+// How render_draws renders besides its ISA: threads, tile size (0: the renderer's choice) and
+// Frame::occluders_nearest_first.
+struct RenderWith {
+  int threads = 2;
+  int tile_size = 0;
+  bool nearest_first = false;
+};
+
 MultiResult render_draws(const TestScene& sc, int w, int h, int samples, Isa isa,
                          std::span<const mosaic::DrawState> states, mosaic::TargetOptions keep,
                          bool ssaa, mosaic::Rgba8 clear = {10, 20, 30, 255},
-                         float clear_depth = 1.0f, mosaic::RenderTarget* reuse = nullptr) {
+                         float clear_depth = 1.0f, mosaic::RenderTarget* reuse = nullptr,
+                         RenderWith with = {}) {
   const std::size_t n = states.size();
   std::vector<std::vector<std::uint32_t>> indices(n);
   const std::size_t tris = sc.positions.size() / 3;
@@ -385,7 +394,8 @@ MultiResult render_draws(const TestScene& sc, int w, int h, int samples, Isa isa
   frame.draws = draws;
   frame.ssaa = ssaa;
   frame.keep_hierarchical_z = true;
-  mosaic::Renderer r({2, isa});
+  frame.occluders_nearest_first = with.nearest_first;
+  mosaic::Renderer r({.threads = with.threads, .isa = isa, .tile_size = with.tile_size});
   MultiResult out;
   out.r = mosaic::test::capture(r, frame, target);
   const mosaic::HierarchicalZ& hz = r.hierarchical_z();
@@ -398,13 +408,17 @@ MultiResult render_draws(const TestScene& sc, int w, int h, int samples, Isa isa
 
 /// The same comparison as expect_same, plus the hierarchical z (compared as values: the bounds
 /// are a min and a max of the same floats, and -0 may stand for +0).
-void expect_same_multi(const MultiResult& ref, const MultiResult& fast, const std::string& what) {
-  expect_same(ref.r, fast.r, what);
+void expect_same_hiz(const MultiResult& ref, const MultiResult& fast, const std::string& what) {
   ASSERT_EQ(ref.hiz_min.size(), fast.hiz_min.size()) << what;
   std::size_t bad = 0;
   for (std::size_t i = 0; i < ref.hiz_min.size(); ++i)
     bad += !(ref.hiz_min[i] == fast.hiz_min[i]) + !(ref.hiz_max[i] == fast.hiz_max[i]);
   EXPECT_EQ(bad, 0u) << what << ": hierarchical z";
+}
+
+void expect_same_multi(const MultiResult& ref, const MultiResult& fast, const std::string& what) {
+  expect_same(ref.r, fast.r, what);
+  expect_same_hiz(ref, fast, what);
 }
 
 }  // namespace
@@ -692,54 +706,17 @@ namespace {
 
 // Depth-only occluders (two draws), then a colour draw, into one target; the sort of
 // Frame::occluders_nearest_first applies to the first two.
-mosaic::test::Captured render_occluders(const TestScene& sc, int w, int h, int samples,
-                                        mosaic::DepthTest test, Isa isa, int threads,
-                                        bool nearest_first, std::vector<float>* hiz = nullptr) {
+MultiResult render_occluders(const TestScene& sc, int w, int h, int samples, mosaic::DepthTest test,
+                             Isa isa, int threads, bool nearest_first) {
   const float clear_depth =
       test == mosaic::DepthTest::kGreater || test == mosaic::DepthTest::kGreaterEqual ? 0.f : 1.f;
-  const std::size_t tris = sc.positions.size() / 3;
-  std::vector<std::uint32_t> indices[3];
-  for (std::size_t t = 0; t < tris; ++t)
-    for (std::uint32_t k = 0; k < 3; ++k)
-      indices[t % 3].push_back(static_cast<std::uint32_t>(3 * t) + k);
-  std::vector<mosaic::Draw> draws(3);
-  for (std::size_t i = 0; i < 3; ++i) {
-    mosaic::Draw& d = draws[i];
-    d.space = sc.space;
-    d.positions = sc.positions;
-    d.indices = indices[i];
-    d.color_source = mosaic::ColorSource::kPerVertex;
-    d.colors = sc.colors;
-    d.state.depth_test = test;
-    d.state.color_write = i == 2;
+  std::vector<mosaic::DrawState> states(3);
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    states[i].depth_test = test;
+    states[i].color_write = i == 2;
   }
-  mosaic::RenderTarget target(w, h, samples);
-  target.set_clear({10, 20, 30, 255}, clear_depth);
-  mosaic::Frame frame;
-  frame.draws = draws;
-  frame.keep_hierarchical_z = true;
-  frame.occluders_nearest_first = nearest_first;
-  mosaic::Renderer r({.threads = threads, .isa = isa, .tile_size = 32});
-  mosaic::test::Captured out = mosaic::test::capture(r, frame, target);
-  if (hiz) {
-    hiz->assign(r.hierarchical_z().zmin().begin(), r.hierarchical_z().zmin().end());
-    hiz->insert(hiz->end(), r.hierarchical_z().zmax().begin(), r.hierarchical_z().zmax().end());
-  }
-  return out;
-}
-
-// Colour, depth (bit for bit) and hierarchical z equal; the counters may differ.
-void expect_same_buffers(const mosaic::test::Captured& ref, const mosaic::test::Captured& got,
-                         const std::vector<float>& ref_hiz, const std::vector<float>& got_hiz,
-                         const std::string& what) {
-  ASSERT_EQ(ref.sample_depth.size(), got.sample_depth.size()) << what;
-  std::size_t bad_depth = 0;
-  for (std::size_t i = 0; i < ref.sample_depth.size(); ++i)
-    bad_depth += std::memcmp(&ref.sample_depth[i], &got.sample_depth[i], sizeof(float)) != 0;
-  EXPECT_EQ(bad_depth, 0u) << what;
-  EXPECT_TRUE(ref.sample_color == got.sample_color) << what;
-  EXPECT_TRUE(ref.color == got.color) << what;
-  EXPECT_TRUE(ref_hiz == got_hiz) << what;
+  return render_draws(sc, w, h, samples, isa, states, {true, true}, false, {10, 20, 30, 255},
+                      clear_depth, nullptr, {threads, 32, nearest_first});
 }
 
 }  // namespace
@@ -756,26 +733,26 @@ TEST(FastPath, OccludersNearestFirstKeepTheDepthOfSubmissionOrder) {
                                    mosaic::DepthTest::kGreater, mosaic::DepthTest::kGreaterEqual}) {
       const TestScene sc = make_scene(shape, w, h, shape == Shape::kLarge ? 60 : 600, seed++, true);
       for (int samples : {1, 4}) {
-        std::vector<float> ref_hiz;
-        const auto ref =
-            render_occluders(sc, w, h, samples, test, Isa::kReference, 1, false, &ref_hiz);
+        const MultiResult ref =
+            render_occluders(sc, w, h, samples, test, Isa::kReference, 1, false);
         for (Isa isa : simd_isas()) {
-          const auto in_order = render_occluders(sc, w, h, samples, test, isa, 2, false);
+          const MultiResult in_order = render_occluders(sc, w, h, samples, test, isa, 2, false);
           std::uint64_t tested = 0;
           for (int threads : {1, 2, 7}) {
             const std::string what = std::string(shape == Shape::kLarge ? "large" : "small") +
                                      " test " + std::to_string(int(test)) + " " +
                                      std::to_string(samples) + "x " + mosaic::to_string(isa) + " " +
                                      std::to_string(threads) + "T";
-            std::vector<float> hiz;
-            const auto sorted = render_occluders(sc, w, h, samples, test, isa, threads, true, &hiz);
-            expect_same_buffers(ref, sorted, ref_hiz, hiz, what);
-            if (threads == 1) tested = sorted.stats.samples_tested;
-            EXPECT_EQ(sorted.stats.samples_tested, tested) << what;
+            const MultiResult sorted =
+                render_occluders(sc, w, h, samples, test, isa, threads, true);
+            mosaic::test::expect_same_buffers(ref.r, sorted.r, what);
+            expect_same_hiz(ref, sorted, what);
+            if (threads == 1) tested = sorted.r.stats.samples_tested;
+            EXPECT_EQ(sorted.r.stats.samples_tested, tested) << what;
             if (shape == Shape::kLarge)
-              EXPECT_LT(sorted.stats.samples_tested, in_order.stats.samples_tested) << what;
+              EXPECT_LT(sorted.r.stats.samples_tested, in_order.r.stats.samples_tested) << what;
             else
-              EXPECT_EQ(sorted.stats.samples_tested, in_order.stats.samples_tested) << what;
+              EXPECT_EQ(sorted.r.stats.samples_tested, in_order.r.stats.samples_tested) << what;
           }
         }
       }

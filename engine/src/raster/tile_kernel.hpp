@@ -868,10 +868,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       // A bin's triangles lie far apart in the setup arrays (a tile takes a sparse subset),
       // so each is a cache miss: fetch the setup kPrefetchAhead triangles ahead while this one
       // is drawn (the kernels read its first kPrefetchLines lines).
-      if (k + kPrefetchAhead < idx.size()) {
-        const char* p = reinterpret_cast<const char*>(&run.tris[idx[k + kPrefetchAhead]]);
-        for (int l = 0; l < kPrefetchLines; ++l) __builtin_prefetch(p + l * kCacheLine);
-      }
+      if (k + kPrefetchAhead < idx.size()) prefetch_setup(run.tris[idx[k + kPrefetchAhead]]);
       // The next triangle's setup was prefetched an iteration ago: if it has planes (colour
       // or varyings), fetch their first kColorPlanes, which lie elsewhere (the chunk's plane
       // array). mosaic-bench features/interpolated/4x (every triangle interpolated): 62.7 and
@@ -893,6 +890,12 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
     }
     Sh::flush(cx.queue);
+  }
+
+  // Fetches the lines of a triangle's setup that the kernels read.
+  static void prefetch_setup(const front::TriangleSetup& t) {
+    const char* p = reinterpret_cast<const char*>(&t);
+    for (int l = 0; l < kPrefetchLines; ++l) __builtin_prefetch(p + l * kCacheLine);
   }
 
   // Whether a run's triangles may be drawn nearest first (Frame::occluders_nearest_first): +1
@@ -924,10 +927,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     for (const BinRun& run : runs) {
       const std::span<const std::uint32_t> idx = run.indices;
       for (std::size_t k = 0; k < idx.size(); ++k) {
-        if (k + kPrefetchAhead < idx.size()) {
-          const char* p = reinterpret_cast<const char*>(&run.tris[idx[k + kPrefetchAhead]]);
-          for (int l = 0; l < kPrefetchLines; ++l) __builtin_prefetch(p + l * kCacheLine);
-        }
+        if (k + kPrefetchAhead < idx.size()) prefetch_setup(run.tris[idx[k + kPrefetchAhead]]);
         const front::TriangleSetup& t = run.tris[idx[k]];
         // A depth range reaching down to -0 may store -0 or +0 at a zero depth by the order.
         if (std::signbit(t.z_min)) return false;
@@ -964,9 +964,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     for (std::size_t i = 0; i < items.size(); ++i) {
       if (i + kPrefetchAhead < items.size()) {
         const TileScratch::Occluder& n = items[i + kPrefetchAhead];
-        const char* p =
-            reinterpret_cast<const char*>(&runs[n.run].tris[runs[n.run].indices[n.index]]);
-        for (int l = 0; l < kPrefetchLines; ++l) __builtin_prefetch(p + l * kCacheLine);
+        prefetch_setup(runs[n.run].tris[runs[n.run].indices[n.index]]);
       }
       const BinRun& run = runs[items[i].run];
       if (run.draw != draw) {
