@@ -126,18 +126,22 @@ Scene parse_tris(const std::string& text, const std::string& name = "<memory>");
 /// Renderer::render() would reject, and Error{kIo} if the file cannot be written.
 void save_tris(const Scene& scene, const std::filesystem::path& path);
 
-/// Loads a Wavefront OBJ mesh (positions and faces; polygons are fanned into triangles; normals,
-/// texture coordinates and materials are ignored) into a Scene with one clip-space Mesh, three
-/// vertices per triangle, seen by a camera that frames the mesh's bounding sphere in a
-/// width × height target (Scene::camera). Vertex colours come from the OBJ extension
-/// `v x y z r g b` if every vertex has one, otherwise from a lit shade of the face normal so
-/// that the shape reads. A vertex whose x, y or z is nan, inf or past float's range is kept as
-/// NaN, so that its triangles are culled when drawn (FrameStats::triangles_nonfinite), exactly
-/// as the same draw through the API; the camera frames the other triangles, and
-/// Scene::warnings names the first such vertex's line. Throws Error{kInvalidArgument} for a
-/// size outside 1..kMaxTargetSize, Error{kParse} for a malformed file (naming the line where
-/// it can; a non-finite w or colour is malformed, and so is a file whose every face uses a
-/// non-finite vertex), or Error{kIo}.
+/// Loads a Wavefront OBJ mesh (positions, normals `vn`, texture coordinates `vt` and faces;
+/// polygons are fanned into triangles; materials and groups are ignored) into a Scene with one
+/// indexed clip-space Mesh, seen by a camera that frames the mesh's bounding sphere in a
+/// width × height target (Scene::camera). Each distinct face corner (position, `vt`, `vn`) is one
+/// vertex; a triangle whose corners do not all name a normal gets its face normal on three
+/// vertices of its own, and the mesh has UVs when every corner names one. Vertex colours come
+/// from the OBJ extension `v x y z r g b` if every vertex has one (Scene::default_shading
+/// kFlat), otherwise each triangle gets a lit shade of its face normal so that the shape reads
+/// (default kLambert, Scene::light in model space). A vertex whose x, y or z is nan, inf or past
+/// float's range is kept as NaN, so that its triangles are culled when drawn
+/// (FrameStats::triangles_nonfinite), exactly as the same draw through the API; the camera
+/// frames the other triangles, and Scene::warnings names the first such vertex's line. Throws
+/// Error{kInvalidArgument} for a size outside 1..kMaxTargetSize, Error{kParse} for a malformed
+/// file (naming its line; a non-finite w or colour is malformed, and so is a file whose every
+/// face uses a non-finite vertex), or Error{kIo} (also for a file that is too large, not a
+/// regular file, or a device).
 Scene load_obj(const std::filesystem::path& path, int width = 1920, int height = 1080);
 
 /// Writes the target's resolved image as PNG (.png, RGBA) or binary PPM (.ppm, RGB), chosen by
