@@ -143,7 +143,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
       y.store_aligned(in.y + j * L);
       const auto lanes = M::floats((active >> (j * L)) & kLaneBits);
       varyings(
-          t, ln.planes, sh, x, y, lanes,
+          t, ln.planes, sh, x, y,
           [&](float* row, F value) {
             xsimd::select(lanes, value, F(0.0f)).store_aligned(row + j * L);
           },
@@ -164,21 +164,22 @@ struct ShadeSimd : simd::LaneTypes<A> {
 
   // The shader's varyings of triangle t at lanes (x, y), and their derivatives when it reads
   // them (shade::varying_at() lane-wise), each handed to put(row, value): row k of the varying,
-  // ddx and ddy arrays starts `stride` floats after row k - 1. Lanes outside `lanes` are 0.
+  // ddx and ddy arrays starts `stride` floats after row k - 1. Every lane is computed, so each
+  // lane's values depend on its own (x, y) only; put() zeroes or drops the lanes not shaded.
   template <class Put>
   [[gnu::always_inline]] static void varyings(const front::TriangleSetup& t,
                                               const front::Plane* planes, const DrawShading& sh,
-                                              F x, F y, xsimd::batch_bool<float, A> lanes, Put put,
-                                              float* varying, float* ddx, float* ddy, int stride) {
+                                              F x, F y, Put put, float* varying, float* ddx,
+                                              float* ddy, int stride) {
     if (sh.varyings == 0) return;
     const front::Plane* p = planes + t.planes_base;  // q, then the varyings
     const F q = plane(p[0], t.x0, t.y0, x, y);
     for (int k = 0; k < sh.varyings; ++k) {
-      const F v = xsimd::select(lanes, plane(p[1 + k], t.x0, t.y0, x, y) / q, F(0.0f));
+      const F v = plane(p[1 + k], t.x0, t.y0, x, y) / q;
       put(varying + k * stride, v);
       if (!sh.derivatives) continue;
-      put(ddx + k * stride, xsimd::select(lanes, slope(p[1 + k].ddx, p[0].ddx, v, q), F(0.0f)));
-      put(ddy + k * stride, xsimd::select(lanes, slope(p[1 + k].ddy, p[0].ddy, v, q), F(0.0f)));
+      put(ddx + k * stride, slope(p[1 + k].ddx, p[0].ddx, v, q));
+      put(ddy + k * stride, slope(p[1 + k].ddy, p[0].ddy, v, q));
     }
   }
 
@@ -201,11 +202,14 @@ struct ShadeSimd : simd::LaneTypes<A> {
   static void append(ShadeQueue& q, const front::TriangleSetup& t, const front::Plane* planes,
                      std::uint32_t lanes, F x, F y, I color, I samples, std::uint32_t front) {
     const int n = q.n;
-    M::compress(x, lanes).store_unaligned(q.x + n);
-    M::compress(y, lanes).store_unaligned(q.y + n);
+    // The positions are packed first and the varyings computed at the packed lanes: the same
+    // values, with one pack per entry instead of one per varying. The lanes past the packed
+    // ones are overwritten by the next append, or zeroed by flush().
+    const F xp = M::compress(x, lanes), yp = M::compress(y, lanes);
+    xp.store_unaligned(q.x + n);
+    yp.store_unaligned(q.y + n);
     varyings(
-        t, planes, *q.shading, x, y, M::floats(lanes),
-        [&](float* row, F value) { M::compress(value, lanes).store_unaligned(row + n); },
+        t, planes, *q.shading, xp, yp, [&](float* row, F value) { value.store_unaligned(row + n); },
         q.varying[0], q.ddx[0], q.ddy[0], ShadeQueue::kRow);
     M::compress(color, lanes).store_unaligned(q.color + n);
     M::compress(samples, lanes).store_unaligned(q.samples + n);
