@@ -278,9 +278,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     // The depth plane of the reference at sample positions (fx, fy) in pixels:
     // (base + ddx * (x - x0)) + ddy * (y - y0), clamped.
     const auto depth_at = [x0, y0, zb, zdx, zdy, zlo, zhi](F fx, F fy) {
-      const F zr = (zb + zdx * (fx - x0)) + zdy * (fy - y0);
-      const F zc = xsimd::select(zr > zlo, zr, zlo);
-      return xsimd::select(zc < zhi, zc, zhi);
+      return Sh::clamp((zb + zdx * (fx - x0)) + zdy * (fy - y0), zlo, zhi);
     };
     [[maybe_unused]] const I flat_color(Sh::bits_of(t.color));
 

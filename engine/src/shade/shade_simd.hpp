@@ -73,11 +73,12 @@ struct ShadeSimd : simd::LaneTypes<A> {
     const F v = F(p.base) + F(p.ddx) * (x - F(x0));
     return v + F(p.ddy) * (y - F(y0));
   }
-  // clamp_like_simd() of front/setup.hpp.
-  [[gnu::always_inline]] static F clamp(F v, float lo, float hi) {
-    const F m = xsimd::select(v > F(lo), v, F(lo));
-    return xsimd::select(m < F(hi), m, F(hi));
+  // clamp_like_simd() of front/setup.hpp: max(v, lo) is v > lo ? v : lo lane-wise (maxps, NaN
+  // to lo), min(m, hi) is m < hi ? m : hi; one instruction each instead of a compare and a blend.
+  [[gnu::always_inline]] static F clamp(F v, F lo, F hi) {
+    return xsimd::min(xsimd::max(v, lo), hi);
   }
+  [[gnu::always_inline]] static F clamp(F v, float lo, float hi) { return clamp(v, F(lo), F(hi)); }
   // to_unorm8() of front/setup.hpp: clamp, add one half, truncate.
   [[gnu::always_inline]] static I unorm8(F v) {
     return xsimd::to_int(clamp(v, 0.0f, 255.0f) + F(0.5f));
