@@ -72,6 +72,11 @@ struct Mask<xsimd::avx512bw> {
   static std::uint32_t signs(const xsimd::batch<double, A>& v) {
     return _mm512_movepi64_mask(_mm512_castpd_si512(v));
   }
+  /// Bit j set where bits 16 j .. 16 j + 15 of m (lane group j) are not all zero.
+  static std::uint32_t nonzero_groups(std::uint64_t m) {
+    return _mm_test_epi16_mask(_mm_cvtsi64_si128(static_cast<long long>(m)),
+                               _mm_cvtsi64_si128(static_cast<long long>(m)));
+  }
   static xsimd::batch_bool<std::int32_t, A> ints(std::uint32_t b) {
     return xsimd::batch_bool<std::int32_t, A>(static_cast<__mmask16>(b));
   }
@@ -119,6 +124,13 @@ struct Mask<xsimd::avx2> {
   }
   static std::uint32_t signs(const xsimd::batch<double, A>& v) {
     return static_cast<std::uint32_t>(_mm256_movemask_pd(v));
+  }
+  /// Bit j set where byte j of m (lane group j) is not zero.
+  static std::uint32_t nonzero_groups(std::uint64_t m) {
+    const __m128i bytes = _mm_cvtsi64_si128(static_cast<long long>(m));
+    const auto zero =
+        static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(bytes, _mm_setzero_si128())));
+    return ~zero & 0xffu;
   }
   static __m256i expand(std::uint32_t b) {
     const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
@@ -170,6 +182,12 @@ struct Mask<xsimd::sse4_1> {
   }
   static std::uint32_t signs(const xsimd::batch<double, A>& v) {
     return static_cast<std::uint32_t>(_mm_movemask_pd(v));
+  }
+  /// Bit j set where bits 4 j .. 4 j + 3 of m (lane group j) are not all zero.
+  static std::uint32_t nonzero_groups(std::uint64_t m) {
+    std::uint32_t g = 0;
+    for (int j = 0; j < 16; ++j) g |= std::uint32_t{((m >> (4 * j)) & 0xfu) != 0} << j;
+    return g;
   }
   static __m128i expand(std::uint32_t b) {
     const __m128i lane_bit = _mm_setr_epi32(1, 2, 4, 8);

@@ -548,29 +548,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   }
 
   // Bit v set where vector v of a coverage word (lanes v * L .. v * L + L - 1) has a lane set.
-  // For 8 and 16 lanes: OR each lane group into its lowest bit, then one multiplication moves
-  // the group bits side by side into the top bits (the multiplier's other partial products land
-  // on distinct lower bits, so nothing carries into them). Four lanes take one test per vector.
-  static std::uint32_t vectors_with_lanes(std::uint64_t m) {
-    if constexpr (L == 16) {
-      m |= m >> 8;
-      m |= m >> 4;
-      m |= m >> 2;
-      m |= m >> 1;
-      constexpr std::uint64_t kGather = 0x0001000200040008;  // 2^48 + 2^33 + 2^18 + 2^3
-      return static_cast<std::uint32_t>(((m & 0x0001000100010001) * kGather) >> 48);
-    } else if constexpr (L == 8) {
-      m |= m >> 4;
-      m |= m >> 2;
-      m |= m >> 1;
-      constexpr std::uint64_t kGather = 0x0102040810204080;  // sum of 2^(56 - 7j), j < 8
-      return static_cast<std::uint32_t>(((m & 0x0101010101010101) * kGather) >> 56);
-    } else {
-      std::uint32_t a = 0;
-      for (int v = 0; v < kVectors; ++v) a |= std::uint32_t{((m >> (v * L)) & kLaneBits) != 0} << v;
-      return a;
-    }
-  }
+  static std::uint32_t vectors_with_lanes(std::uint64_t m) { return M::nonzero_groups(m); }
 
   // The tile's depth bounds: the union of its blocks' (blocks outside the image hold the neutral
   // bounds +inf / -inf, see run()).
