@@ -228,7 +228,11 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     float rlo = t.z_min, rhi = t.z_max;
     const bool small_box = bxe - bxb <= 2 && bye - byb <= 2;
     if constexpr (kTest != DepthTest::kAlways) {
-      std::tie(rlo, rhi) = zrange.over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
+      // A small box the tile does not cut: its plane range, clamped to the vertices' depths, is
+      // at most [z_min, z_max] and rarely narrower, so the double evaluation is skipped.
+      const bool whole = x_lo == t.bx0 && x_hi == t.bx1 && y_lo == t.by0 && y_hi == t.by1;
+      if (!(small_box && whole))
+        std::tie(rlo, rhi) = zrange.over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
       bool hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
       if (!hidden && cx.tile_z_loose) {
         refresh_tile_z(cx);
