@@ -43,14 +43,24 @@ inline bool covers_no_sample(const front::TriangleSetup& t,
   if ((area2 < 0 ? -area2 : area2) * samples > kCullMaxExpectedSamples * kPixelArea2) return false;
   // Every candidate is tested, with no branch on its result: which sample a tiny triangle covers
   // is data, which short-circuit tests mispredict. A sample is inside where no edge value has its
-  // sign bit set.
+  // sign bit set. Each sample's edge values start at the box's first pixel and step by a pixel
+  // (a or b times one pixel in 16.8): the same integers as evaluating each candidate afresh.
   std::int64_t all_outside = -1;  // its sign bit stays set while every candidate is outside
-  for (int py = t.by0; py < t.by1; ++py) {
-    for (int px = t.bx0; px < t.bx1; ++px) {
-      for (const raster::SampleOffset o : pattern) {
-        const std::int64_t sx = raster::sample_x_fixed(px, o), sy = raster::sample_y_fixed(py, o);
-        all_outside &= t.edge[0](sx, sy) | t.edge[1](sx, sy) | t.edge[2](sx, sy);
+  const std::int64_t one = front::kSubpixelOne;
+  for (const raster::SampleOffset o : pattern) {
+    const std::int64_t sx = raster::sample_x_fixed(t.bx0, o), sy = raster::sample_y_fixed(t.by0, o);
+    std::int64_t row0 = t.edge[0](sx, sy), row1 = t.edge[1](sx, sy), row2 = t.edge[2](sx, sy);
+    for (int py = t.by0; py < t.by1; ++py) {
+      std::int64_t e0 = row0, e1 = row1, e2 = row2;
+      for (int px = t.bx0; px < t.bx1; ++px) {
+        all_outside &= e0 | e1 | e2;
+        e0 += t.edge[0].a * one;
+        e1 += t.edge[1].a * one;
+        e2 += t.edge[2].a * one;
       }
+      row0 += t.edge[0].b * one;
+      row1 += t.edge[1].b * one;
+      row2 += t.edge[2].b * one;
     }
   }
   return all_outside < 0;
