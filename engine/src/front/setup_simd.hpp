@@ -56,6 +56,9 @@ struct FrontEndSimd {
     /// Corner k of lane l is vertex vertex[k][l]: its varyings are fetched by it.
     alignas(64) std::int64_t vertex[3][N];
     alignas(64) double color[3][kColorChannels][N];  ///< vertex colours, submitted corners
+    /// With `cached`, the corners' colours as the vertex stage packs them (RGBA8, red lowest):
+    /// unpacked into `color` by unpack_colors() only for a batch that draws a lane.
+    alignas(64) std::uint64_t rgba[3][N];
   };
 
   /// One vertex per lane after VertexFetch: the clip tests, the perspective divide and snapping.
@@ -235,6 +238,21 @@ struct FrontEndSimd {
     }
   }
 
+  /// The packed colours of a cached batch into `color`, in lanes: each channel's byte as a
+  /// double, exactly (its bits put under 2^52's exponent, then 2^52 taken away).
+  static void unpack_colors(Vertices& v) {
+    using U = xsimd::batch<std::uint64_t, A>;
+    const U exponent(0x4330000000000000u);  // the bits of 2^52
+    const D two52(0x1p52);
+    for (int k = 0; k < 3; ++k) {
+      const U c = U::load_aligned(v.rgba[k]);
+      for (int ch = 0; ch < kColorChannels; ++ch) {
+        const U byte = (c >> (8 * ch)) & U(0xffu);
+        (xsimd::bitwise_cast<D>(byte | exponent) - two52).store_aligned(v.color[k][ch]);
+      }
+    }
+  }
+
   static void store_color(Vertices& v, int k, int l, const std::array<double, kColorChannels>& c) {
     for (int ch = 0; ch < kColorChannels; ++ch) v.color[k][ch][l] = c[ch];
   }
@@ -264,9 +282,7 @@ struct FrontEndSimd {
         v.W[k][l] = p.q;
         all &= p.code;
         any |= p.code;
-        if (scalar.per_vertex)
-          for (int ch = 0; ch < kColorChannels; ++ch)
-            v.color[k][ch][l] = static_cast<double>((p.rgba >> (8 * ch)) & 0xffu);
+        v.rgba[k][l] = p.rgba;
       }
       const bool out = (all & vc::kClipPlanes) != 0;
       const bool to_scalar = (any & vc::kNonFinite) || (!out && (any & vc::kClip));
@@ -601,7 +617,10 @@ struct FrontEndSimd {
       setup(vertices[cur], scalar.fetch, scalar.area, shaded, scalar.spots, r);
       const std::uint32_t drawn =
           ((1u << n) - 1) & ~(r.scalar | r.outside | r.face | r.degenerate | r.no_sample);
-      if (drawn && scalar.per_vertex) color_planes(vertices[cur], drawn, r);
+      if (drawn && scalar.per_vertex) {
+        if (vertices[cur].cached) unpack_colors(vertices[cur]);
+        color_planes(vertices[cur], drawn, r);
+      }
       if (drawn && scalar.nvary > 0) varying_planes(scalar, vertices[cur], r);
       // The culled lanes are only counted; the scalar and drawn ones append their setups in
       // submission order.
