@@ -219,8 +219,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
               bye = (y_hi - tile.y0 + kBlockSize - 1) / kBlockSize;
 
     // Hierarchical z over the whole tile first: a triangle hidden behind every block the tile
-    // has is dropped without visiting one (the common case under heavy overdraw).
-    const BlockDepthRange zrange(t);
+    // has is dropped without visiting one (the common case under heavy overdraw). The plane's
+    // double form (BlockDepthRange) is made where a range is evaluated, not for every pair.
     // The triangle's depth over its box in this tile bounds the depth of every sample it covers
     // (they lie in the box), so a triangle whose box meets at most 2×2 blocks uses it for each of
     // its blocks instead of computing one range per block: exact output either way, the ranges
@@ -232,7 +232,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       // at most [z_min, z_max] and rarely narrower, so the double evaluation is skipped.
       const bool whole = x_lo == t.bx0 && x_hi == t.bx1 && y_lo == t.by0 && y_hi == t.by1;
       if (!(small_box && whole))
-        std::tie(rlo, rhi) = zrange.over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
+        std::tie(rlo, rhi) =
+            BlockDepthRange(t).over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
       bool hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
       if (!hidden && cx.tile_z_loose) {
         refresh_tile_z(cx);
@@ -338,8 +339,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         const int px0 = tile.x0 + bx * kBlockSize;
 
         // 2. Hierarchical z, with the triangle's depth range over this block (its box's, if small).
-        const auto [blo, bhi] = small_box ? std::pair<float, float>{rlo, rhi}
-                                          : zrange.over(px0, py0, kBlockSize, kBlockSize, tlo, thi);
+        const auto [blo, bhi] =
+            small_box ? std::pair<float, float>{rlo, rhi}
+                      : BlockDepthRange(t).over(px0, py0, kBlockSize, kBlockSize, tlo, thi);
         const int hz = hiz_classify<kTest>(blo, bhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
         if (hz < 0) {
           ++cx.st.blocks_hiz_rejected;
