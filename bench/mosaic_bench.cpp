@@ -220,7 +220,7 @@ struct StageRig {
   mosaic::bin::ChunkPlan plan;
   std::vector<mosaic::bin::Chunk> chunks;
   mosaic::bin::TileGrid grid;
-  std::span<const mosaic::raster::SampleOffset> pattern;  ///< the binner culls by it
+  std::span<const mosaic::raster::SampleOffset> pattern;  ///< setup culls by it
   std::unique_ptr<tbb::global_control> parallelism;       // outlives the arena
   tbb::task_arena arena;
   mosaic::raster::TileKernel kernel = nullptr;
@@ -262,7 +262,7 @@ struct StageRig {
   void binning() {
     arena.execute([&] {
       tbb::parallel_for(std::size_t{0}, chunks.size(),
-                        [&](std::size_t i) { mosaic::bin::bin_chunk(chunks[i], grid, pattern); });
+                        [&](std::size_t i) { mosaic::bin::bin_chunk(chunks[i], grid); });
     });
   }
 

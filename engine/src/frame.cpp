@@ -505,15 +505,12 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   // Thread time of the chunks' setup and binning, which split the stage's wall time between
   // FrameStats::ms_setup and ms_binning.
   tbb::combinable<double> setup_thread_ms, binning_thread_ms;
-  tbb::combinable<std::uint64_t> binned, no_sample;
-  const auto pattern = raster::sample_pattern(S);
+  tbb::combinable<std::uint64_t> binned;
   const bool record = options.record_costs;
   if (record) stats.chunk_costs.assign(nchunks, {});
   auto bin_after = [&](std::size_t i, std::uint32_t triangles, Clock::time_point c0,
                        Clock::time_point c1) {
-    const bin::BinCounts counts = bin::bin_chunk(chunks[i], grid, pattern);
-    binned.local() += counts.pairs;
-    no_sample.local() += counts.no_sample;
+    binned.local() += bin::bin_chunk(chunks[i], grid);
     const auto c2 = Clock::now();
     setup_thread_ms.local() += ms_between(c0, c1);
     binning_thread_ms.local() += ms_between(c1, c2);
@@ -541,10 +538,6 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   front_edges.join();
   front_stats.combine_each([&](const front::FrontStats& fs) { fs.add_to(stats); });
   stats.triangles_binned = binned.combine(std::plus<>());
-  // Set-up triangles the binner culled for covering no sample (the front end counted its own).
-  const std::uint64_t binner_no_sample = no_sample.combine(std::plus<>());
-  stats.triangles_no_sample += binner_no_sample;
-  stats.triangles_drawn -= binner_no_sample;
   const auto t2 = Clock::now();
   const double setup_share = setup_thread_ms.combine(std::plus<>()),
                binning_share = binning_thread_ms.combine(std::plus<>());

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <iterator>
 
-#include "bin/sample_cull.hpp"
-
 namespace mosaic::bin {
 
 raster::TileRect TileGrid::rect(int tile) const {
@@ -34,8 +32,7 @@ bool edges_touch(const front::TriangleSetup& t, int tx, int ty, std::int64_t spa
 
 }  // namespace
 
-BinCounts bin_chunk(Chunk& c, const TileGrid& grid, std::span<const raster::SampleOffset> pattern) {
-  BinCounts counts;
+std::uint64_t bin_chunk(Chunk& c, const TileGrid& grid) {
   const int tiles = grid.count();
   c.offsets.assign(static_cast<std::size_t>(tiles) + 1, 0);
   c.pairs.clear();
@@ -43,10 +40,6 @@ BinCounts bin_chunk(Chunk& c, const TileGrid& grid, std::span<const raster::Samp
   const std::int64_t span = std::int64_t{grid.size} * front::kSubpixelOne;
   for (std::uint32_t i = 0; i < c.tris.size(); ++i) {
     const front::TriangleSetup& t = c.tris[i];
-    if (covers_no_sample(t, pattern)) {
-      ++counts.no_sample;
-      continue;
-    }
     const int tx0 = t.bx0 >> shift, tx1 = (t.bx1 - 1) >> shift;
     const int ty0 = t.by0 >> shift, ty1 = (t.by1 - 1) >> shift;
     const bool single = tx0 == tx1 && ty0 == ty1;
@@ -70,8 +63,7 @@ BinCounts bin_chunk(Chunk& c, const TileGrid& grid, std::span<const raster::Samp
   // After the scatter, cursor[t] is the end of bin t: shift back to get the starts.
   for (int t = tiles; t > 0; --t) c.offsets[t] = c.offsets[t - 1];
   c.offsets[0] = 0;
-  counts.pairs = c.pairs.size();
-  return counts;
+  return c.pairs.size();
 }
 
 void ChunkPlan::build(std::span<const std::uint32_t> draw_triangles,

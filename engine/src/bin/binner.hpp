@@ -14,7 +14,6 @@
 
 #include "front/front_end.hpp"
 #include "front/setup.hpp"
-#include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
 
 namespace mosaic::bin {
@@ -99,16 +98,9 @@ std::uint32_t set_up_chunk(Chunk& chunk, std::span<const ChunkPiece> pieces,
 /// Appends the runs of `chunk`'s bin for `tile` to `runs`, one per draw, in order.
 void append_runs(const Chunk& chunk, int tile, std::vector<raster::BinRun>& runs);
 
-/// What binning one chunk produced.
-struct BinCounts {
-  std::uint64_t pairs = 0;      ///< (triangle, tile) pairs in the bins
-  std::uint64_t no_sample = 0;  ///< triangles culled: they cover no sample (bin/sample_cull.hpp)
-};
-
-/// Bins `chunk.tris` into `chunk.offsets` / `chunk.indices`. A triangle that covers no sample of
-/// `pattern` (covers_no_sample()) goes to no tile; one whose bounding box spans several tiles
-/// goes only to the tiles that its three edges do not trivially reject.
-BinCounts bin_chunk(Chunk& chunk, const TileGrid& grid,
-                    std::span<const raster::SampleOffset> pattern);
+/// Bins `chunk.tris` into `chunk.offsets` / `chunk.indices`, and returns the number of (triangle,
+/// tile) pairs. A triangle whose bounding box spans several tiles goes only to the tiles that its
+/// three edges do not trivially reject. (Setup has culled those that cover no sample.)
+std::uint64_t bin_chunk(Chunk& chunk, const TileGrid& grid);
 
 }  // namespace mosaic::bin

@@ -138,6 +138,13 @@ void TriangleFrontEnd::run(std::uint32_t t) {
     any_face = any_face || why == SetupReject::kFace;
     any_outside = any_outside || why == SetupReject::kOutside;
     any_no_sample = any_no_sample || why == SetupReject::kNoSample;
+    if (why == SetupReject::kNoCoveredSample) {
+      // A piece that set up but covers none of its box's samples is counted by piece, as
+      // drawn pieces are, and leaves the polygon's counters to the other pieces.
+      ++stats.no_sample;
+      any_drawn = true;
+      continue;
+    }
     if (why != SetupReject::kNone) continue;
     if (shader && planes_)
       setup_varyings(tri, basis,

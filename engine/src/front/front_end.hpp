@@ -26,7 +26,9 @@ namespace mosaic::front {
 struct FrontStats {
   std::uint64_t in = 0, nonfinite = 0, culled_face = 0, degenerate = 0, outside = 0, clipped = 0,
                 drawn = 0;
-  std::uint64_t no_sample = 0;  ///< culled: the box holds no sample position (SetupReject)
+  /// Culled: the box holds no sample position, or the triangle covers none of the few it holds
+  /// (SetupReject::kNoSample, kNoCoveredSample).
+  std::uint64_t no_sample = 0;
   FrontStats& operator+=(const FrontStats& o);
   void add_to(FrameStats& s) const;
 };

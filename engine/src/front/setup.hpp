@@ -140,14 +140,16 @@ inline std::uint8_t to_unorm8(float v) {
   return static_cast<std::uint8_t>(static_cast<int>(clamp_like_simd(v, 0.0f, 255.0f) + 0.5f));
 }
 
-/// Why setup produced no triangle.
-enum class SetupReject { kNone, kFace, kDegenerate, kOutside, kNoSample };
+/// Why setup produced no triangle. kNoSample: the box holds no sample position; kNoCoveredSample:
+/// it holds a few, and the triangle covers none of them (front/sample_cull.hpp).
+enum class SetupReject { kNone, kFace, kDegenerate, kOutside, kNoSample, kNoCoveredSample };
 
 /// A pixel's sample positions from its corner in 16.8 units (raster::sample_x_fixed(0, o)), for
 /// setup's cull of triangles whose box holds no sample position; `count` 0 culls nothing.
 struct SampleSpots {
+  static constexpr int kMax = 16;  ///< the largest pattern's samples
   int count = 0;
-  std::array<std::int32_t, 16> x{}, y{};
+  std::array<std::int32_t, kMax> x{}, y{};
   /// The spots of the standard pattern of `samples` samples (0: none).
   static SampleSpots of(int samples) {
     SampleSpots sp;
@@ -188,8 +190,9 @@ struct DrawArea;  // front/draw_area.hpp
 /// kColorPlanes planes to `planes`; without `planes` (callers that use only coverage and depth)
 /// none are set up, and the triangle gets its first vertex's colour, as one whose planes overflow
 /// float does. `basis`, when given, receives the corners the planes were built on (for
-/// setup_varyings() and sort_depth()). With `spots`, a triangle whose box holds none of them is
-/// rejected (kNoSample) before its planes are built.
+/// setup_varyings() and sort_depth()). With `spots`, a triangle whose box holds none of them
+/// (kNoSample), or that covers none of the few its box holds (kNoCoveredSample), is rejected
+/// before its planes are built.
 SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state,
                            const DrawArea& area, bool per_vertex_color, Rgba8 flat_color,
                            TriangleSetup& out, std::vector<Plane>* planes = nullptr,

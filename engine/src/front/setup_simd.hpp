@@ -24,10 +24,12 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 #include <xsimd/xsimd.hpp>
 
 #include "front/front_end.hpp"
+#include "front/sample_cull.hpp"
 #include "simd/mask.hpp"
 
 namespace mosaic::front {
@@ -485,6 +487,7 @@ struct FrontEndSimd {
     // Orient clockwise on screen: corners 1 and 2 swap where the area is negative.
     const D ox[3] = {px[0], xsimd::select(ccw, px[2], px[1]), xsimd::select(ccw, px[1], px[2])};
     const D oy[3] = {py[0], xsimd::select(ccw, py[2], py[1]), xsimd::select(ccw, py[1], py[2])};
+    D ea[3], eb[3], ec[3];
     for (int e = 0; e < 3; ++e) {
       const int f = (e + 1) % 3;
       const D dx = ox[f] - ox[e];
@@ -493,10 +496,16 @@ struct FrontEndSimd {
       const B horizontal_kept = state.fill_rule == FillRule::kD3D ? dx > D(0.0) : dx < D(0.0);
       const B included = dy < D(0.0) || (dy == D(0.0) && horizontal_kept);
       const D c = ox[e] * oy[f] - ox[f] * oy[e];
-      (-dy).store_aligned(r.ea[e]);
-      dx.store_aligned(r.eb[e]);
-      xsimd::select(included, c, c - D(1.0)).store_aligned(r.ec[e]);
+      ea[e] = -dy;
+      eb[e] = dx;
+      ec[e] = xsimd::select(included, c, c - D(1.0));
+      ea[e].store_aligned(r.ea[e]);
+      eb[e].store_aligned(r.eb[e]);
+      ec[e].store_aligned(r.ec[e]);
     }
+    const std::uint32_t set_up_lanes =
+        kAllLanes & ~(r.scalar | r.outside | r.face | r.degenerate | r.no_sample);
+    r.no_sample |= no_covered_sample(ea, eb, ec, bx0, by0, bx1, by1, area2, spots, set_up_lanes);
 
     // Planes over the oriented corners in pixels (x / 256 is exact: a power of two).
     const D Xs[3] = {ox[0] * D(kPxPerUnit), ox[1] * D(kPxPerUnit), ox[2] * D(kPxPerUnit)};
@@ -518,6 +527,62 @@ struct FrontEndSimd {
       area_px2.store_aligned(r.area_px2);
       xsimd::select(ccw, D(1.0), D(0.0)).store_aligned(r.ccw_lanes);
     }
+  }
+
+  /// covers_no_sample() of front/sample_cull.hpp in lanes: those of `lanes` the cull tests and
+  /// whose candidate samples all lie outside an edge. A tested lane's edge values are integers
+  /// below 2^50 and each step adds one, so every sum is exact: the scalar int64 values.
+  static std::uint32_t no_covered_sample(const D (&ea)[3], const D (&eb)[3], const D (&ec)[3],
+                                         D bx0, D by0, D bx1, D by1, D area2,
+                                         const SampleSpots& spots, std::uint32_t lanes) {
+    if (spots.count == 0) return 0;  // no positions: nothing is culled
+    const D w = bx1 - bx0, h = by1 - by0, samples(static_cast<double>(spots.count));
+    const B tests = w * h * samples <= D(kMaxCullCandidates) &&
+                    xsimd::abs(area2) * samples <= D(kCullMaxExpectedSamples * kPixelArea2);
+    lanes &= M::bits(tests);
+    if (!lanes) return 0;
+    // The candidates of the largest box among the tested lanes; each lane's own box masks them.
+    alignas(64) double wl[N], hl[N];
+    w.store_aligned(wl);
+    h.store_aligned(hl);
+    int wmax = 0, hmax = 0;
+    for (std::uint32_t b = lanes; b; b &= b - 1) {
+      wmax = std::max(wmax, static_cast<int>(wl[std::countr_zero(b)]));
+      hmax = std::max(hmax, static_cast<int>(hl[std::countr_zero(b)]));
+    }
+    // Each edge's values at the box's first pixel corner and its steps by one pixel.
+    const D one(kSubpixelOne);
+    const D step_x[3] = {ea[0] * one, ea[1] * one, ea[2] * one};
+    const D step_y[3] = {eb[0] * one, eb[1] * one, eb[2] * one};
+    const D corner_x = bx0 * one, corner_y = by0 * one;
+    // +inf in a column of the lane's own box, -inf past it: the min with it keeps or drops a
+    // candidate without a mask.
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const D inf(kInf), minus_inf(-kInf);
+    D column[kMaxCullCandidates];
+    for (int x = 0; x < wmax; ++x)
+      column[x] = xsimd::select(D(static_cast<double>(x)) < w, inf, minus_inf);
+    // The largest over candidates of the smallest edge value: >= 0 where one is inside.
+    D best = minus_inf;
+    for (int s = 0; s < spots.count; ++s) {
+      const D sx = corner_x + D(static_cast<double>(spots.x[s]));
+      const D sy = corner_y + D(static_cast<double>(spots.y[s]));
+      D row[3];
+      for (int e = 0; e < 3; ++e) row[e] = ea[e] * sx + eb[e] * sy + ec[e];
+      for (int y = 0; y < hmax; ++y) {
+        const D in_row = xsimd::select(D(static_cast<double>(y)) < h, inf, minus_inf);
+        D e0 = row[0], e1 = row[1], e2 = row[2];
+        for (int x = 0; x < wmax; ++x) {
+          const D bound = xsimd::min(column[x], in_row);
+          best = xsimd::max(best, xsimd::min(xsimd::min(e0, e1), xsimd::min(e2, bound)));
+          e0 += step_x[0];
+          e1 += step_x[1];
+          e2 += step_x[2];
+        }
+        for (int e = 0; e < 3; ++e) row[e] += step_y[e];
+      }
+    }
+    return lanes & ~M::bits(best >= D(0.0));
   }
 
   static Plane plane(const PlaneLanes& p, int l) {

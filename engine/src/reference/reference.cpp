@@ -5,7 +5,6 @@
 #include <chrono>
 #include <numeric>
 
-#include "bin/sample_cull.hpp"
 #include "front/front_end.hpp"
 #include "raster/depth_test.hpp"
 #include "raster/sample_patterns.hpp"
@@ -55,13 +54,6 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
 
   std::vector<front::Plane> planes;
   std::vector<front::TriangleSetup> tris = setup_frame(frame, W, H, S, stats, &planes);
-  // The fast path's binner culls these too; the counters of both paths agree.
-  const auto no_sample = std::remove_if(
-      tris.begin(), tris.end(), [&](const auto& t) { return bin::covers_no_sample(t, pattern); });
-  const auto binner_no_sample = static_cast<std::uint64_t>(tris.end() - no_sample);
-  stats.triangles_no_sample += binner_no_sample;
-  stats.triangles_drawn -= binner_no_sample;
-  tris.erase(no_sample, tris.end());
   std::vector<shade::DrawShading> shading;
   shade::frame_shading(frame.draws, shading);
   const auto t1 = Clock::now();

@@ -1,9 +1,9 @@
-// The cull of triangles that cover no sample, in setup (a box that holds no sample position,
-// front/setup.hpp) and in binning (few candidates, all outside: bin/sample_cull.hpp), checked
-// against an independent exact oracle: orientation tests on the snapped vertices themselves, not
-// the setup's edge functions. Tiny triangles, and needles along each axis and the diagonal whose
-// boxes hold just up to and just over bin::kMaxCullCandidates samples, on every path and sample
-// count.
+// The cull of triangles that cover no sample, in setup: a box that holds no sample position
+// (front/setup.hpp), or few candidates, all outside (front/sample_cull.hpp, and its lanes in the
+// SIMD front end), checked against an independent exact oracle: orientation tests on the snapped
+// vertices themselves, not the setup's edge functions. Tiny triangles, and needles along each
+// axis and the diagonal whose boxes hold just up to and just over front::kMaxCullCandidates
+// samples, on every path and sample count, drawn at the target's corner and through a viewport.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "bin/sample_cull.hpp"
+#include "front/sample_cull.hpp"
 #include "mosaic/mosaic.hpp"
 #include "raster/sample_patterns.hpp"
 #include "scenes/rng.hpp"
@@ -52,7 +52,7 @@ std::int64_t max_offset(std::span<const mosaic::raster::SampleOffset> pattern, b
 bool small_area(const Tri& t, int samples) {
   const std::int64_t a2 = orient(t.v[0], t.v[1], t.v[2]);
   return (a2 < 0 ? -a2 : a2) * samples <=
-         mosaic::bin::kCullMaxExpectedSamples * mosaic::bin::kPixelArea2;
+         mosaic::front::kCullMaxExpectedSamples * mosaic::front::kPixelArea2;
 }
 
 // Box of a triangle as setup makes it: the pixels floor(min / 256) .. floor(max / 256).
@@ -168,10 +168,10 @@ Expected oracle(const std::vector<Tri>& tris, int w, int h,
     e.covered.push_back(covered);
     e.box_holds.push_back(box_holds);
     e.ambiguous.push_back(ambiguous);
-    // Setup culls a triangle whose box holds no sample position; binning one whose few
-    // candidates all fail.
-    if (covered == 0 &&
-        (!box_holds || (box_pixels(t) * S <= mosaic::bin::kMaxCullCandidates && small_area(t, S))))
+    // Setup culls a triangle whose box holds no sample position, and one whose few candidates
+    // all fail.
+    if (covered == 0 && (!box_holds || (box_pixels(t) * S <= mosaic::front::kMaxCullCandidates &&
+                                        small_area(t, S))))
       ++e.culled;
   }
   return e;
@@ -181,15 +181,16 @@ mosaic::Rgba8 color_of(int i) {
   return {static_cast<std::uint8_t>(i + 1), static_cast<std::uint8_t>((i + 1) >> 8), 77, 255};
 }
 
-TEST(BinCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
+TEST(SampleCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
   const std::vector<Isa> isas = mosaic::available_isas();  // the reference included
   mosaic::SplitMix64 rng{2024};
   for (int samples : {1, 4, 8, 16}) {
     const auto pattern = mosaic::raster::sample_pattern(samples);
     // The longest needle whose box still holds at most kMaxCullCandidates samples.
-    const int line = mosaic::bin::kMaxCullCandidates / samples;
+    const int line = mosaic::front::kMaxCullCandidates / samples;
     int diagonal = 1;
-    while ((diagonal + 1) * (diagonal + 1) * samples <= mosaic::bin::kMaxCullCandidates) ++diagonal;
+    while ((diagonal + 1) * (diagonal + 1) * samples <= mosaic::front::kMaxCullCandidates)
+      ++diagonal;
     std::vector<Tri> tris;
     int cell = 0;
     for (int k = 0; k < 160; ++k) tris.push_back(make_tri(Kind::kTiny, 0, rng, cell++, pattern));
@@ -225,7 +226,7 @@ TEST(BinCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
         ++empty_box;
         continue;
       }
-      const bool box_ok = box_pixels(tris[i]) * samples <= mosaic::bin::kMaxCullCandidates;
+      const bool box_ok = box_pixels(tris[i]) * samples <= mosaic::front::kMaxCullCandidates;
       empty_at += tris[i].at_threshold && small_area(tris[i], samples);
       empty_over += !box_ok;
       empty_large += box_ok && !small_area(tris[i], samples);
@@ -258,29 +259,45 @@ TEST(BinCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
     d.colors = colors;
     d.state.depth_test = mosaic::DepthTest::kAlways;
     d.state.depth_write = false;
-    const mosaic::Draw draws[] = {d};
-    mosaic::Frame frame;
-    frame.draws = draws;
-    for (const Isa isa : isas) {
-      for (const int threads : {1, 2}) {
-        if (isa == Isa::kReference && threads == 2) continue;
-        const std::string what = std::string(mosaic::to_string(isa)) + " " +
-                                 std::to_string(samples) + "x " + std::to_string(threads) + "T";
-        mosaic::RenderTarget target(w, h, samples, {true, false});
-        const mosaic::Rgba8 clear{0, 0, 0, 255};
-        target.set_clear(clear, 1.0f);
-        mosaic::Renderer r({.threads = threads, .isa = isa});
-        const mosaic::FrameStats st = r.render(frame, target);
-        EXPECT_EQ(st.triangles_no_sample, want.culled) << what;
-        EXPECT_EQ(st.triangles_drawn, tris.size() - want.culled) << what;
-        EXPECT_EQ(st.samples_written, want.written) << what;
-        const auto sc = target.sample_color();
-        std::size_t bad = 0;
-        for (std::size_t i = 0; i < sc.size(); ++i) {
-          const mosaic::Rgba8 c = want.owner[i] < 0 ? clear : color_of(want.owner[i]);
-          bad += !(sc[i] == c);
+    // Through a viewport the triangles are set up in its pixels and then moved: the same culls.
+    constexpr int kDx = 13, kDy = 7;
+    for (const bool moved : {false, true}) {
+      if (moved) d.state.viewport = mosaic::PixelRect{kDx, kDy, w, h};
+      const int tw = moved ? w + kDx : w, th = moved ? h + kDy : h;
+      const mosaic::Draw draws[] = {d};
+      mosaic::Frame frame;
+      frame.draws = draws;
+      for (const Isa isa : isas) {
+        for (const int threads : {1, 2}) {
+          if (isa == Isa::kReference && threads == 2) continue;
+          const std::string what = std::string(mosaic::to_string(isa)) + " " +
+                                   std::to_string(samples) + "x " + std::to_string(threads) + "T" +
+                                   (moved ? " through a viewport" : "");
+          mosaic::RenderTarget target(tw, th, samples, {.keep_sample_color = true});
+          ASSERT_EQ(target.sample_color().size(), static_cast<std::size_t>(tw) * th * samples);
+          const mosaic::Rgba8 clear{0, 0, 0, 255};
+          target.set_clear(clear, 1.0f);
+          mosaic::Renderer r({.threads = threads, .isa = isa});
+          const mosaic::FrameStats st = r.render(frame, target);
+          EXPECT_EQ(st.triangles_no_sample, want.culled) << what;
+          EXPECT_EQ(st.triangles_drawn, tris.size() - want.culled) << what;
+          EXPECT_EQ(st.samples_written, want.written) << what;
+          const auto sc = target.sample_color();
+          std::size_t bad = 0;
+          for (int y = 0; y < th; ++y) {
+            for (int x = 0; x < tw; ++x) {
+              const int vx = moved ? x - kDx : x, vy = moved ? y - kDy : y;
+              const bool in = vx >= 0 && vy >= 0;
+              for (int s = 0; s < samples; ++s) {
+                const std::size_t i = (static_cast<std::size_t>(y) * tw + x) * samples + s;
+                const int owner =
+                    in ? want.owner[(static_cast<std::size_t>(vy) * w + vx) * samples + s] : -1;
+                bad += !(sc[i] == (owner < 0 ? clear : color_of(owner)));
+              }
+            }
+          }
+          EXPECT_EQ(bad, 0u) << what;
         }
-        EXPECT_EQ(bad, 0u) << what;
       }
     }
   }
