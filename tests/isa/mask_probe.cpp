@@ -1,0 +1,66 @@
+// simd/'s vocabulary (mask.hpp) compiled for one instruction set, as the stages are
+// (simd/CMakeLists.txt's mosaic_isa_target()), behind plain functions on arrays:
+// tests/test_simd_mask.cpp checks each set's against a scalar model on a CPU that runs it.
+#include <cstdint>
+
+#include "simd/isa.hpp"
+#include "simd/lane_types.hpp"
+
+namespace mosaic::simd::MOSAIC_ISA {
+
+namespace {
+using T = LaneTypes<Arch>;
+
+// A template, so that a set without scatter() never names it.
+template <class Mk>
+bool scatter_if_any(std::int32_t* base, const std::int32_t* index, const std::int32_t* v,
+                    std::uint32_t b) {
+  if constexpr (Mk::kScatter) {
+    Mk::scatter(base, T::I::load_unaligned(index), T::I::load_unaligned(v), b);
+    return true;
+  } else {
+    return false;
+  }
+}
+}  // namespace
+
+int probe_lanes() { return T::L; }
+
+int probe_double_lanes() { return T::kDLanes; }
+
+std::uint32_t probe_nonzero_groups(std::uint64_t m) { return T::M::nonzero_groups(m); }
+
+std::uint32_t probe_signs_int(const std::int32_t* v) {
+  return T::M::signs(T::I::load_unaligned(v));
+}
+
+std::uint32_t probe_signs_double(const double* v) { return T::M::signs(T::D::load_unaligned(v)); }
+
+// bits() of the masks that ints() and floats() make of b, and of a double comparison.
+std::uint32_t probe_int_mask(std::uint32_t b) { return T::M::bits(T::M::ints(b)); }
+
+std::uint32_t probe_float_mask(std::uint32_t b) { return T::M::bits(T::M::floats(b)); }
+
+std::uint32_t probe_double_less(const double* a, const double* b) {
+  return T::M::bits(T::D::load_unaligned(a) < T::D::load_unaligned(b));
+}
+
+void probe_to_float(const double* in, double* out) {
+  T::M::to_float(T::D::load_unaligned(in)).store_unaligned(out);
+}
+
+void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out) {
+  T::M::compress(T::I::load_unaligned(in), b).store_unaligned(out);
+}
+
+void probe_compress_float(const float* in, std::uint32_t b, float* out) {
+  T::M::compress(T::F::load_unaligned(in), b).store_unaligned(out);
+}
+
+// base[index[l]] = v[l] for the lanes in b; false where the set has no scatter.
+bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v,
+                   std::uint32_t b) {
+  return scatter_if_any<T::M>(base, index, v, b);
+}
+
+}  // namespace mosaic::simd::MOSAIC_ISA

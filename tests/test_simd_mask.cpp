@@ -1,0 +1,279 @@
+// simd/mask.hpp, the lane-mask vocabulary every SIMD stage is written in, on each instruction set
+// this build compiles and this CPU runs, against scalar models: lane groups holding a bit, sign
+// bits, masks to and from lanes, rounding to float, compress and scatter. The stages use these
+// at every block and batch, so an error here would show only as a wrong image somewhere; here
+// it shows as the helper and the input that broke. The helpers are compiled per set by
+// tests/isa/mask_probe.cpp.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "mosaic/mosaic.hpp"
+
+#define MOSAIC_DECLARE_PROBES(ns)                                                          \
+  namespace mosaic::simd::ns {                                                             \
+  int probe_lanes();                                                                       \
+  int probe_double_lanes();                                                                \
+  std::uint32_t probe_nonzero_groups(std::uint64_t m);                                     \
+  std::uint32_t probe_signs_int(const std::int32_t* v);                                    \
+  std::uint32_t probe_signs_double(const double* v);                                       \
+  std::uint32_t probe_int_mask(std::uint32_t b);                                           \
+  std::uint32_t probe_float_mask(std::uint32_t b);                                         \
+  std::uint32_t probe_double_less(const double* a, const double* b);                       \
+  void probe_to_float(const double* in, double* out);                                      \
+  void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out);     \
+  void probe_compress_float(const float* in, std::uint32_t b, float* out);                 \
+  bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v, \
+                     std::uint32_t b);                                                     \
+  }
+
+#if MOSAIC_PROBE_SSE41
+MOSAIC_DECLARE_PROBES(sse41)
+#endif
+#if MOSAIC_PROBE_AVX2
+MOSAIC_DECLARE_PROBES(avx2)
+#endif
+#if MOSAIC_PROBE_AVX512
+MOSAIC_DECLARE_PROBES(avx512)
+#endif
+
+namespace {
+
+using mosaic::Isa;
+
+struct Probe {
+  Isa isa;
+  int (*lanes)();
+  int (*double_lanes)();
+  std::uint32_t (*nonzero_groups)(std::uint64_t);
+  std::uint32_t (*signs_int)(const std::int32_t*);
+  std::uint32_t (*signs_double)(const double*);
+  std::uint32_t (*int_mask)(std::uint32_t);
+  std::uint32_t (*float_mask)(std::uint32_t);
+  std::uint32_t (*double_less)(const double*, const double*);
+  void (*to_float)(const double*, double*);
+  void (*compress_int)(const std::int32_t*, std::uint32_t, std::int32_t*);
+  void (*compress_float)(const float*, std::uint32_t, float*);
+  bool (*scatter)(std::int32_t*, const std::int32_t*, const std::int32_t*, std::uint32_t);
+};
+
+#define MOSAIC_PROBE(ns, isa)                                                        \
+  Probe {                                                                            \
+    isa, &mosaic::simd::ns::probe_lanes, &mosaic::simd::ns::probe_double_lanes,      \
+        &mosaic::simd::ns::probe_nonzero_groups, &mosaic::simd::ns::probe_signs_int, \
+        &mosaic::simd::ns::probe_signs_double, &mosaic::simd::ns::probe_int_mask,    \
+        &mosaic::simd::ns::probe_float_mask, &mosaic::simd::ns::probe_double_less,   \
+        &mosaic::simd::ns::probe_to_float, &mosaic::simd::ns::probe_compress_int,    \
+        &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_scatter    \
+  }
+
+// The probes of every set this build compiles and this CPU runs.
+std::vector<Probe> runnable_probes() {
+  std::vector<Probe> all;
+#if MOSAIC_PROBE_SSE41
+  all.push_back(MOSAIC_PROBE(sse41, Isa::kSse41));
+#endif
+#if MOSAIC_PROBE_AVX2
+  all.push_back(MOSAIC_PROBE(avx2, Isa::kAvx2));
+#endif
+#if MOSAIC_PROBE_AVX512
+  all.push_back(MOSAIC_PROBE(avx512, Isa::kAvx512));
+#endif
+  std::vector<Probe> runnable;
+  const std::vector<Isa> available = mosaic::available_isas();
+  for (const Probe& p : all)
+    for (const Isa a : available)
+      if (a == p.isa) runnable.push_back(p);
+  return runnable;
+}
+
+constexpr int kMaxLanes = 16;
+
+class SimdMask : public testing::Test {
+ protected:
+  void SetUp() override {
+    probes_ = runnable_probes();
+    if (probes_.empty()) GTEST_SKIP() << "no SIMD instruction set built that this CPU runs";
+  }
+  std::vector<Probe> probes_;
+  std::mt19937_64 rng_{20261205};
+};
+
+TEST_F(SimdMask, LaneCountsMatchTheSet) {
+  for (const Probe& p : probes_) {
+    std::printf("probing %s\n", std::string(mosaic::to_string(p.isa)).c_str());
+    const int want = p.isa == Isa::kSse41 ? 4 : p.isa == Isa::kAvx2 ? 8 : 16;
+    EXPECT_EQ(p.lanes(), want) << mosaic::to_string(p.isa);
+    EXPECT_EQ(p.double_lanes(), want / 2) << mosaic::to_string(p.isa);
+  }
+}
+
+// Bit j where bits L j .. L j + L - 1 of m hold a set bit: every single bit, every group alone
+// full, and random words, sparse and dense.
+TEST_F(SimdMask, NonzeroGroupsMarksEachGroupHoldingABit) {
+  for (const Probe& p : probes_) {
+    const int L = p.lanes(), groups = 64 / L;
+    const std::uint64_t group = L == 64 ? ~0ull : (1ull << L) - 1;
+    const auto model = [&](std::uint64_t m) {
+      std::uint32_t g = 0;
+      for (int j = 0; j < groups; ++j) g |= std::uint32_t{((m >> (L * j)) & group) != 0} << j;
+      return g;
+    };
+    std::vector<std::uint64_t> words{0, ~0ull};
+    for (int b = 0; b < 64; ++b) words.push_back(1ull << b);
+    for (int j = 0; j < groups; ++j) words.push_back(group << (L * j));
+    for (int k = 0; k < 2000; ++k) {
+      words.push_back(rng_());
+      words.push_back(rng_() & rng_() & rng_() & rng_());
+    }
+    for (const std::uint64_t m : words)
+      ASSERT_EQ(p.nonzero_groups(m), model(m)) << mosaic::to_string(p.isa) << " m=" << m;
+  }
+}
+
+TEST_F(SimdMask, SignsAreTheLanesSignBits) {
+  const std::int32_t ints[] = {0,
+                               1,
+                               -1,
+                               std::numeric_limits<std::int32_t>::min(),
+                               std::numeric_limits<std::int32_t>::max(),
+                               -256,
+                               256};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const double doubles[] = {0.0, -0.0, 1.0, -1.0, inf, -inf, nan, -nan, 1e-310, -1e-310};
+  for (const Probe& p : probes_) {
+    const int L = p.lanes(), DL = p.double_lanes();
+    for (int k = 0; k < 500; ++k) {
+      std::int32_t v[kMaxLanes];
+      std::uint32_t want = 0;
+      for (int l = 0; l < L; ++l) {
+        v[l] = ints[rng_() % std::size(ints)];
+        want |= std::uint32_t{v[l] < 0} << l;
+      }
+      ASSERT_EQ(p.signs_int(v), want) << mosaic::to_string(p.isa);
+      double d[kMaxLanes];
+      std::uint32_t dwant = 0;
+      for (int l = 0; l < DL; ++l) {
+        d[l] = doubles[rng_() % std::size(doubles)];
+        dwant |= std::uint32_t{std::signbit(d[l])} << l;
+      }
+      ASSERT_EQ(p.signs_double(d), dwant) << mosaic::to_string(p.isa);
+    }
+  }
+}
+
+// ints() and floats() set exactly the lanes of b, for every b; a double comparison's mask is the
+// comparison lane by lane, NaN included.
+TEST_F(SimdMask, MasksRoundTripAndCompare) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Probe& p : probes_) {
+    const int L = p.lanes(), DL = p.double_lanes();
+    for (std::uint32_t b = 0; b < (1u << L); ++b) {
+      ASSERT_EQ(p.int_mask(b), b) << mosaic::to_string(p.isa);
+      ASSERT_EQ(p.float_mask(b), b) << mosaic::to_string(p.isa);
+    }
+    for (int k = 0; k < 500; ++k) {
+      double a[kMaxLanes], c[kMaxLanes];
+      std::uint32_t want = 0;
+      for (int l = 0; l < DL; ++l) {
+        a[l] = static_cast<double>(rng_() % 5) - 2.0;
+        c[l] = rng_() % 7 == 0 ? nan : static_cast<double>(rng_() % 5) - 2.0;
+        want |= std::uint32_t{a[l] < c[l]} << l;
+      }
+      ASSERT_EQ(p.double_less(a, c), want) << mosaic::to_string(p.isa);
+    }
+  }
+}
+
+// Each lane rounded to float as a scalar conversion rounds it (to nearest, ties to even), then
+// widened back: halfway cases, float's subnormals and overflow included.
+TEST_F(SimdMask, ToFloatRoundsLikeTheScalarConversion) {
+  for (const Probe& p : probes_) {
+    const int DL = p.double_lanes();
+    for (int k = 0; k < 4000; ++k) {
+      double in[kMaxLanes], out[kMaxLanes];
+      for (int l = 0; l < DL; ++l) {
+        switch (rng_() % 4) {
+          case 0:  // a float plus half its last place: a tie
+            in[l] = static_cast<double>(static_cast<float>(rng_() % 100000) * 0.37f) +
+                    std::ldexp(1.0, -30);
+            break;
+          case 1:  // near float's smallest normal
+            in[l] = std::ldexp(static_cast<double>(rng_() % 1000000), -150);
+            break;
+          case 2:  // past float's range
+            in[l] = std::ldexp(1.0 + static_cast<double>(rng_() % 1000) / 1000.0, 128);
+            break;
+          default:
+            in[l] = std::bit_cast<double>(rng_() & 0xbfffffffffffffffull);  // |x| < 2
+        }
+      }
+      p.to_float(in, out);
+      for (int l = 0; l < DL; ++l) {
+        const double want = static_cast<double>(static_cast<float>(in[l]));
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(out[l]), std::bit_cast<std::uint64_t>(want))
+            << mosaic::to_string(p.isa) << " in=" << in[l];
+      }
+    }
+  }
+}
+
+// The lanes of b packed into the low lanes, in lane order, for every b.
+TEST_F(SimdMask, CompressPacksTheMaskedLanesInOrder) {
+  for (const Probe& p : probes_) {
+    const int L = p.lanes();
+    std::int32_t in[kMaxLanes];
+    float fin[kMaxLanes];
+    for (int l = 0; l < L; ++l) {
+      in[l] = 1000 + 17 * l;
+      fin[l] = 0.5f + static_cast<float>(l);
+    }
+    for (std::uint32_t b = 0; b < (1u << L); ++b) {
+      std::int32_t out[kMaxLanes];
+      float fout[kMaxLanes];
+      p.compress_int(in, b, out);
+      p.compress_float(fin, b, fout);
+      int k = 0;
+      for (int l = 0; l < L; ++l) {
+        if (!(b >> l & 1u)) continue;
+        ASSERT_EQ(out[k], in[l]) << mosaic::to_string(p.isa) << " b=" << b << " lane " << k;
+        ASSERT_EQ(fout[k], fin[l]) << mosaic::to_string(p.isa) << " b=" << b << " lane " << k;
+        ++k;
+      }
+    }
+  }
+}
+
+// base[index[l]] = v[l] for the lanes of b, in lane order: where indices repeat, the highest
+// such lane's value stays. (Sets without a scatter say so.)
+TEST_F(SimdMask, ScatterWritesTheMaskedLanesInLaneOrder) {
+  for (const Probe& p : probes_) {
+    const int L = p.lanes();
+    for (int k = 0; k < 2000; ++k) {
+      std::int32_t index[kMaxLanes], v[kMaxLanes];
+      for (int l = 0; l < L; ++l) {
+        index[l] = static_cast<std::int32_t>(rng_() % 12);  // repeats are common
+        v[l] = 100 * k + l;
+      }
+      const auto b = static_cast<std::uint32_t>(rng_() & ((1u << L) - 1));
+      std::int32_t got[12] = {}, want[12] = {};
+      const bool has = p.scatter(got, index, v, b);
+      EXPECT_EQ(has, p.isa == Isa::kAvx512) << mosaic::to_string(p.isa);
+      if (!has) break;
+      for (int l = 0; l < L; ++l)
+        if (b >> l & 1u) want[index[l]] = v[l];
+      for (int i = 0; i < 12; ++i)
+        ASSERT_EQ(got[i], want[i]) << mosaic::to_string(p.isa) << " slot " << i;
+    }
+  }
+}
+
+}  // namespace
