@@ -1,6 +1,7 @@
-// simd/mask.hpp, the lane-mask vocabulary every SIMD stage is written in, on each instruction set
-// this build compiles and this CPU runs, against scalar models: lane groups holding a bit, sign
-// bits, masks to and from lanes, rounding to float, compress and scatter. The stages use these
+// simd/mask.hpp and simd/records.hpp, the vocabulary every SIMD stage is written in, on each
+// instruction set this build compiles and this CPU runs, against scalar models: lane groups
+// holding a bit, sign bits, masks to and from lanes, rounding to float, compress, scatter, and
+// records transposed into lanes. The stages use these
 // at every block and batch, so an error here would show only as a wrong image somewhere; here
 // it shows as the helper and the input that broke. The helpers are compiled per set by
 // tests/isa/mask_probe.cpp.
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -32,6 +34,8 @@
   void probe_compress_float(const float* in, std::uint32_t b, float* out);                 \
   bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v, \
                      std::uint32_t b);                                                     \
+  void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,     \
+                     double* high);                                                        \
   }
 
 #if MOSAIC_PROBE_SSE41
@@ -62,6 +66,7 @@ struct Probe {
   void (*compress_int)(const std::int32_t*, std::uint32_t, std::int32_t*);
   void (*compress_float)(const float*, std::uint32_t, float*);
   bool (*scatter)(std::int32_t*, const std::int32_t*, const std::int32_t*, std::uint32_t);
+  void (*columns)(const void* const*, std::uint64_t (*)[16], double*, double*);
 };
 
 #define MOSAIC_PROBE(ns, isa)                                                        \
@@ -71,7 +76,8 @@ struct Probe {
         &mosaic::simd::ns::probe_signs_double, &mosaic::simd::ns::probe_int_mask,    \
         &mosaic::simd::ns::probe_float_mask, &mosaic::simd::ns::probe_double_less,   \
         &mosaic::simd::ns::probe_to_float, &mosaic::simd::ns::probe_compress_int,    \
-        &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_scatter    \
+        &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_scatter,   \
+        &mosaic::simd::ns::probe_columns                                             \
   }
 
 // The probes of every set this build compiles and this CPU runs.
@@ -272,6 +278,47 @@ TEST_F(SimdMask, ScatterWritesTheMaskedLanesInLaneOrder) {
         if (b >> l & 1u) want[index[l]] = v[l];
       for (int i = 0; i < 12; ++i)
         ASSERT_EQ(got[i], want[i]) << mosaic::to_string(p.isa) << " slot " << i;
+    }
+  }
+}
+
+// Records at scattered addresses (a batch's corners name any vertex) into lanes: every word of
+// every record where it belongs, bit for bit, and word 0's two floats widened exactly.
+TEST_F(SimdMask, RecordsBecomeColumns) {
+  struct alignas(32) Record {
+    std::uint64_t word[4];
+  };
+  std::vector<Record> pool(64);
+  for (Record& r : pool)
+    for (std::uint64_t& w : r.word) w = rng_();
+  for (Record& r : pool) {  // word 0: two finite floats, signed zeros and subnormals among them
+    const float f[2] = {std::bit_cast<float>(static_cast<std::uint32_t>(rng_() & 0x807fffffu) |
+                                             (static_cast<std::uint32_t>(rng_() % 254) << 23)),
+                        rng_() % 4 == 0 ? -0.0f : std::ldexp(1.0f, -140)};
+    std::memcpy(&r.word[0], f, sizeof f);
+  }
+  for (const Probe& p : probes_) {
+    const int DL = p.double_lanes();
+    for (int k = 0; k < 200; ++k) {
+      const void* rows[8];
+      int which[8];
+      for (int l = 0; l < DL; ++l) rows[l] = &pool[which[l] = static_cast<int>(rng_() % 64)];
+      std::uint64_t words[4][16];
+      double low[8], high[8];
+      p.columns(rows, words, low, high);
+      for (int l = 0; l < DL; ++l) {
+        const Record& r = pool[which[l]];
+        for (int j = 0; j < 4; ++j)
+          ASSERT_EQ(words[j][l], r.word[j]) << mosaic::to_string(p.isa) << " word " << j;
+        float f[2];
+        std::memcpy(f, &r.word[0], sizeof f);
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(low[l]),
+                  std::bit_cast<std::uint64_t>(static_cast<double>(f[0])))
+            << mosaic::to_string(p.isa);
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(high[l]),
+                  std::bit_cast<std::uint64_t>(static_cast<double>(f[1])))
+            << mosaic::to_string(p.isa);
+      }
     }
   }
 }

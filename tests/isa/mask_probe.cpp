@@ -1,12 +1,16 @@
-// simd/'s vocabulary (mask.hpp) compiled for one instruction set, as the stages are
+// simd/'s vocabulary (mask.hpp, records.hpp) compiled for one instruction set, as the stages are
 // (simd/CMakeLists.txt's mosaic_isa_target()), behind plain functions on arrays:
 // tests/test_simd_mask.cpp checks each set's against a scalar model on a CPU that runs it.
 #include <cstdint>
+#include <cstring>
 
 #include "simd/isa.hpp"
 #include "simd/lane_types.hpp"
+#include "simd/records.hpp"
 
 namespace mosaic::simd::MOSAIC_ISA {
+
+inline constexpr int kMaxProbeLanes = 16;
 
 namespace {
 using T = LaneTypes<Arch>;
@@ -61,6 +65,23 @@ void probe_compress_float(const float* in, std::uint32_t b, float* out) {
 bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v,
                    std::uint32_t b) {
   return scatter_if_any<T::M>(base, index, v, b);
+}
+
+// Records<>::columns() of the 32-byte records at rows[0 .. double lanes): words[j][l] is word j of
+// record l; then each lane of word 0 split into its low and high floats, widened.
+void probe_columns(const void* const* rows, std::uint64_t (*words)[kMaxProbeLanes], double* low,
+                   double* high) {
+  const void* r[T::kDLanes];
+  for (int l = 0; l < T::kDLanes; ++l) r[l] = rows[l];
+  T::D col[4];
+  Records<Arch>::columns(r, col);
+  for (int j = 0; j < 4; ++j) {
+    alignas(64) double w[T::kDLanes];
+    col[j].store_aligned(w);
+    for (int l = 0; l < T::kDLanes; ++l) std::memcpy(&words[j][l], &w[l], sizeof w[l]);
+  }
+  Records<Arch>::low_floats(col[0]).store_unaligned(low);
+  Records<Arch>::high_floats(col[0]).store_unaligned(high);
 }
 
 }  // namespace mosaic::simd::MOSAIC_ISA

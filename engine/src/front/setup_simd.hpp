@@ -23,6 +23,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -31,6 +32,7 @@
 #include "front/front_end.hpp"
 #include "front/sample_cull.hpp"
 #include "simd/mask.hpp"
+#include "simd/records.hpp"
 
 namespace mosaic::front {
 
@@ -259,35 +261,52 @@ struct FrontEndSimd {
     for (int ch = 0; ch < kColorChannels; ++ch) v.color[k][ch][l] = c[ch];
   }
 
-  /// fetch() for a draw with a vertex cache: the corners' projections, copied into lanes (scalar
-  /// loads, which beat gather instructions here), and the lanes' clip classes from the corners'
-  /// codes, as setup() finds them from the positions.
+  /// fetch() for a draw with a vertex cache: the corners' projections in lanes (each lane's record
+  /// loaded whole, the batch's records transposed), and the lanes' clip classes from the
+  /// corners' codes, as setup() finds them from the positions.
   static void fetch_cached(const TriangleFrontEnd& scalar, const VertexCache& cache,
                            std::uint32_t t0, int n, Vertices& v) {
     namespace vc = vertex_code;
+    // The record's 64-bit words, as simd::Records<A> transposes them.
+    static_assert(offsetof(ProjectedVertex, px) == 0 && offsetof(ProjectedVertex, py) == 4 &&
+                  offsetof(ProjectedVertex, z) == 8 && offsetof(ProjectedVertex, code) == 12 &&
+                  offsetof(ProjectedVertex, q) == 16 && offsetof(ProjectedVertex, rgba) == 24);
+    using R = simd::Records<A>;
+    using U = xsimd::batch<std::uint64_t, A>;
     v.nonfinite = 0;
     v.raw = false;
     v.cached = true;
     const IndexSpan& indices = scalar.fetch.draw.indices;
-    std::uint32_t slow = 0, outside = 0;
-    for (int l = 0; l < N; ++l) {
-      const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
-      std::uint32_t all = 0xff, any = 0;
-      for (int k = 0; k < 3; ++k) {
+    U all(0xffu), any(0u);
+    for (int k = 0; k < 3; ++k) {
+      const void* rows[N];
+      for (int l = 0; l < N; ++l) {
+        const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
         const std::uint32_t i =
             indices.empty() ? 3 * t + static_cast<std::uint32_t>(k) : indices[3 * t + k];
-        const ProjectedVertex& p = cache.data[i];
         v.vertex[k][l] = i;
-        v.X[k][l] = p.px;
-        v.Y[k][l] = p.py;
-        v.Z[k][l] = p.z;
-        v.W[k][l] = p.q;
-        all &= p.code;
-        any |= p.code;
-        v.rgba[k][l] = p.rgba;
+        rows[l] = &cache.data[i];
       }
-      const bool out = (all & vc::kClipPlanes) != 0;
-      const bool to_scalar = (any & vc::kNonFinite) || (!out && (any & vc::kClip));
+      D word[4];
+      R::columns(rows, word);
+      R::low_floats(word[0]).store_aligned(v.X[k]);   // px
+      R::high_floats(word[0]).store_aligned(v.Y[k]);  // py
+      R::low_floats(word[1]).store_aligned(v.Z[k]);   // z
+      word[2].store_aligned(v.W[k]);                  // q
+      // rgba in the low half; unpack_colors() reads only its four bytes.
+      xsimd::bitwise_cast<U>(word[3]).store_aligned(v.rgba[k]);
+      const U code = xsimd::bitwise_cast<U>(word[1]) >> 32;
+      all &= code;
+      any |= code;
+    }
+    alignas(64) std::uint64_t all_codes[N], any_codes[N];
+    all.store_aligned(all_codes);
+    any.store_aligned(any_codes);
+    std::uint32_t slow = 0, outside = 0;
+    for (int l = 0; l < N; ++l) {
+      const bool out = (all_codes[l] & vc::kClipPlanes) != 0;
+      const bool to_scalar =
+          (any_codes[l] & vc::kNonFinite) || (!out && (any_codes[l] & vc::kClip));
       slow |= static_cast<std::uint32_t>(to_scalar) << l;
       outside |= static_cast<std::uint32_t>(out) << l;
     }

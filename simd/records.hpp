@@ -1,0 +1,115 @@
+// simd/records.hpp — records of four 64-bit words, one per double lane, turned into lanes.
+//
+// Part of simd/'s vocabulary: it includes nothing from engine/. The front end reads a batch's
+// corners from the vertex stage's 32-byte records; loading each record whole and transposing the
+// batch's records takes a few shuffles, where copying each field of each lane took a load and a
+// store (and gather instructions were slower on the AMD hosts measured).
+#pragma once
+
+#include <cstdint>
+#include <xsimd/xsimd.hpp>
+
+namespace mosaic::simd {
+
+template <class A>
+struct Records;
+
+#if XSIMD_WITH_AVX2
+namespace detail {
+// Words 0..3 of the four 32-byte records r0..r3 as four vectors of the records' words.
+inline void transpose4(__m256d r0, __m256d r1, __m256d r2, __m256d r3, __m256d (&col)[4]) {
+  const __m256d t0 = _mm256_unpacklo_pd(r0, r1);  // r0[0] r1[0] r0[2] r1[2]
+  const __m256d t1 = _mm256_unpackhi_pd(r0, r1);  // r0[1] r1[1] r0[3] r1[3]
+  const __m256d t2 = _mm256_unpacklo_pd(r2, r3);
+  const __m256d t3 = _mm256_unpackhi_pd(r2, r3);
+  col[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  col[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  col[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  col[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+}  // namespace detail
+#endif
+
+#if XSIMD_WITH_AVX512BW
+template <>
+struct Records<xsimd::avx512bw> {
+  using D = xsimd::batch<double, xsimd::avx512bw>;
+  /// col[j] lane l: word j of record rows[l] (32-byte aligned), its bits as they are.
+  static void columns(const void* const (&rows)[8], D (&col)[4]) {
+    __m256d lo[4], hi[4];
+    detail::transpose4(load(rows[0]), load(rows[1]), load(rows[2]), load(rows[3]), lo);
+    detail::transpose4(load(rows[4]), load(rows[5]), load(rows[6]), load(rows[7]), hi);
+    for (int j = 0; j < 4; ++j)
+      col[j] = _mm512_insertf64x4(_mm512_castpd256_pd512(lo[j]), hi[j], 1);
+  }
+  /// Each lane's low (first in memory) or high 32 bits, as a float widened to double.
+  static D low_floats(const D& v) {
+    const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 0, 0, 0, 0, 0, 0, 0, 0);
+    return _mm512_cvtps_pd(
+        _mm512_castps512_ps256(_mm512_permutexvar_ps(even, _mm512_castpd_ps(v))));
+  }
+  static D high_floats(const D& v) {
+    const __m512i odd = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 0, 0, 0, 0, 0, 0, 0, 0);
+    return _mm512_cvtps_pd(_mm512_castps512_ps256(_mm512_permutexvar_ps(odd, _mm512_castpd_ps(v))));
+  }
+
+ private:
+  static __m256d load(const void* p) { return _mm256_load_pd(static_cast<const double*>(p)); }
+};
+#endif
+
+#if XSIMD_WITH_AVX2
+template <>
+struct Records<xsimd::avx2> {
+  using D = xsimd::batch<double, xsimd::avx2>;
+  /// col[j] lane l: word j of record rows[l] (32-byte aligned), its bits as they are.
+  static void columns(const void* const (&rows)[4], D (&col)[4]) {
+    __m256d c[4];
+    detail::transpose4(load(rows[0]), load(rows[1]), load(rows[2]), load(rows[3]), c);
+    for (int j = 0; j < 4; ++j) col[j] = c[j];
+  }
+  /// Each lane's low (first in memory) or high 32 bits, as a float widened to double.
+  static D low_floats(const D& v) {
+    const __m256i even = _mm256_setr_epi32(0, 2, 4, 6, 0, 0, 0, 0);
+    return _mm256_cvtps_pd(
+        _mm256_castps256_ps128(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), even)));
+  }
+  static D high_floats(const D& v) {
+    const __m256i odd = _mm256_setr_epi32(1, 3, 5, 7, 0, 0, 0, 0);
+    return _mm256_cvtps_pd(
+        _mm256_castps256_ps128(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), odd)));
+  }
+
+ private:
+  static __m256d load(const void* p) { return _mm256_load_pd(static_cast<const double*>(p)); }
+};
+#endif
+
+#if XSIMD_WITH_SSE4_1
+template <>
+struct Records<xsimd::sse4_1> {
+  using D = xsimd::batch<double, xsimd::sse4_1>;
+  /// col[j] lane l: word j of record rows[l] (32-byte aligned), its bits as they are.
+  static void columns(const void* const (&rows)[2], D (&col)[4]) {
+    const double* r0 = static_cast<const double*>(rows[0]);
+    const double* r1 = static_cast<const double*>(rows[1]);
+    const __m128d a0 = _mm_load_pd(r0), b0 = _mm_load_pd(r0 + 2);
+    const __m128d a1 = _mm_load_pd(r1), b1 = _mm_load_pd(r1 + 2);
+    col[0] = _mm_unpacklo_pd(a0, a1);
+    col[1] = _mm_unpackhi_pd(a0, a1);
+    col[2] = _mm_unpacklo_pd(b0, b1);
+    col[3] = _mm_unpackhi_pd(b0, b1);
+  }
+  /// Each lane's low (first in memory) or high 32 bits, as a float widened to double.
+  static D low_floats(const D& v) {
+    const __m128 f = _mm_castpd_ps(v);
+    return _mm_cvtps_pd(_mm_shuffle_ps(f, f, _MM_SHUFFLE(2, 0, 2, 0)));
+  }
+  static D high_floats(const D& v) {
+    const __m128 f = _mm_castpd_ps(v);
+    return _mm_cvtps_pd(_mm_shuffle_ps(f, f, _MM_SHUFFLE(3, 1, 3, 1)));
+  }
+};
+#endif
+
+}  // namespace mosaic::simd
