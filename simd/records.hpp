@@ -1,11 +1,14 @@
-// simd/records.hpp — records of four 64-bit words, one per double lane, turned into lanes.
+// simd/records.hpp — records of 64-bit words, one per double lane, turned into lanes and back.
 //
 // Part of simd/'s vocabulary: it includes nothing from engine/. The front end reads a batch's
-// corners from the vertex stage's 32-byte records; loading each record whole and transposing the
-// batch's records takes a few shuffles, where copying each field of each lane took a load and a
-// store (and gather instructions were slower on the AMD hosts measured).
+// corners from the vertex stage's 32-byte records, and writes its triangles' 128-byte setups;
+// loading or storing each record whole and transposing the batch's records takes a few shuffles,
+// where moving each field of each lane took a load and a store (and gather instructions were
+// slower on the AMD hosts measured). Words travel as the bits of double lanes; int64s(),
+// pack_floats() and pack_ints() make a record's words from double lanes.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <xsimd/xsimd.hpp>
 
@@ -52,9 +55,41 @@ struct Records<xsimd::avx512bw> {
     const __m512i odd = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 0, 0, 0, 0, 0, 0, 0, 0);
     return _mm512_cvtps_pd(_mm512_castps512_ps256(_mm512_permutexvar_ps(odd, _mm512_castpd_ps(v))));
   }
+  /// Record l gets words col[0][l] .. col[words - 1][l], at base + l * stride (32-byte aligned);
+  /// `words` a multiple of 4.
+  static void rows(const D* col, int words, void* base, std::size_t stride) {
+    char* out = static_cast<char*>(base);
+    for (int j = 0; j < words; j += 4) {
+      __m256d lo[4], hi[4];
+      detail::transpose4(_mm512_castpd512_pd256(col[j]), _mm512_castpd512_pd256(col[j + 1]),
+                         _mm512_castpd512_pd256(col[j + 2]), _mm512_castpd512_pd256(col[j + 3]),
+                         lo);
+      detail::transpose4(_mm512_extractf64x4_pd(col[j], 1), _mm512_extractf64x4_pd(col[j + 1], 1),
+                         _mm512_extractf64x4_pd(col[j + 2], 1),
+                         _mm512_extractf64x4_pd(col[j + 3], 1), hi);
+      for (int l = 0; l < 4; ++l) {
+        _mm256_store_pd(reinterpret_cast<double*>(out + l * stride + 8 * j), lo[l]);
+        _mm256_store_pd(reinterpret_cast<double*>(out + (l + 4) * stride + 8 * j), hi[l]);
+      }
+    }
+  }
+  /// Integers held exactly in double lanes as int64 words.
+  static D int64s(const D& v) { return _mm512_castsi512_pd(_mm512_cvtpd_epi64(v)); }
+  /// Each lane's word: float(lo) in its low 32 bits, float(hi) in its high 32 bits.
+  static D pack_floats(const D& lo, const D& hi) {
+    return pack(_mm256_castps_si256(_mm512_cvtpd_ps(lo)), _mm256_castps_si256(_mm512_cvtpd_ps(hi)));
+  }
+  /// The same with int32 lo and hi (integers held exactly).
+  static D pack_ints(const D& lo, const D& hi) {
+    return pack(_mm512_cvttpd_epi32(lo), _mm512_cvttpd_epi32(hi));
+  }
 
  private:
   static __m256d load(const void* p) { return _mm256_load_pd(static_cast<const double*>(p)); }
+  static D pack(__m256i lo, __m256i hi) {
+    return _mm512_castsi512_pd(_mm512_or_si512(_mm512_cvtepu32_epi64(lo),
+                                               _mm512_slli_epi64(_mm512_cvtepu32_epi64(hi), 32)));
+  }
 };
 #endif
 
@@ -79,9 +114,39 @@ struct Records<xsimd::avx2> {
     return _mm256_cvtps_pd(
         _mm256_castps256_ps128(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), odd)));
   }
+  /// Record l gets words col[0][l] .. col[words - 1][l], at base + l * stride (32-byte aligned);
+  /// `words` a multiple of 4.
+  static void rows(const D* col, int words, void* base, std::size_t stride) {
+    char* out = static_cast<char*>(base);
+    for (int j = 0; j < words; j += 4) {
+      __m256d r[4];
+      detail::transpose4(col[j], col[j + 1], col[j + 2], col[j + 3], r);
+      for (int l = 0; l < 4; ++l)
+        _mm256_store_pd(reinterpret_cast<double*>(out + l * stride + 8 * j), r[l]);
+    }
+  }
+  /// Integers held exactly in double lanes (below 2^51 in magnitude) as int64 words: added to
+  /// 1.5 * 2^52, the integer is the low bits of the sum's mantissa.
+  static D int64s(const D& v) {
+    const __m256d magic = _mm256_set1_pd(0x1.8p52);
+    return _mm256_castsi256_pd(
+        _mm256_sub_epi64(_mm256_castpd_si256(_mm256_add_pd(v, magic)), _mm256_castpd_si256(magic)));
+  }
+  /// Each lane's word: float(lo) in its low 32 bits, float(hi) in its high 32 bits.
+  static D pack_floats(const D& lo, const D& hi) {
+    return pack(_mm_castps_si128(_mm256_cvtpd_ps(lo)), _mm_castps_si128(_mm256_cvtpd_ps(hi)));
+  }
+  /// The same with int32 lo and hi (integers held exactly).
+  static D pack_ints(const D& lo, const D& hi) {
+    return pack(_mm256_cvttpd_epi32(lo), _mm256_cvttpd_epi32(hi));
+  }
 
  private:
   static __m256d load(const void* p) { return _mm256_load_pd(static_cast<const double*>(p)); }
+  static D pack(__m128i lo, __m128i hi) {
+    return _mm256_castsi256_pd(_mm256_or_si256(_mm256_cvtepu32_epi64(lo),
+                                               _mm256_slli_epi64(_mm256_cvtepu32_epi64(hi), 32)));
+  }
 };
 #endif
 
@@ -108,6 +173,31 @@ struct Records<xsimd::sse4_1> {
   static D high_floats(const D& v) {
     const __m128 f = _mm_castpd_ps(v);
     return _mm_cvtps_pd(_mm_shuffle_ps(f, f, _MM_SHUFFLE(3, 1, 3, 1)));
+  }
+  /// Record l gets words col[0][l] .. col[words - 1][l], at base + l * stride (16-byte aligned);
+  /// `words` a multiple of 2.
+  static void rows(const D* col, int words, void* base, std::size_t stride) {
+    char* out = static_cast<char*>(base);
+    for (int j = 0; j < words; j += 2) {
+      _mm_store_pd(reinterpret_cast<double*>(out + 8 * j), _mm_unpacklo_pd(col[j], col[j + 1]));
+      _mm_store_pd(reinterpret_cast<double*>(out + stride + 8 * j),
+                   _mm_unpackhi_pd(col[j], col[j + 1]));
+    }
+  }
+  /// Integers held exactly in double lanes (below 2^51 in magnitude) as int64 words: added to
+  /// 1.5 * 2^52, the integer is the low bits of the sum's mantissa.
+  static D int64s(const D& v) {
+    const __m128d magic = _mm_set1_pd(0x1.8p52);
+    return _mm_castsi128_pd(
+        _mm_sub_epi64(_mm_castpd_si128(_mm_add_pd(v, magic)), _mm_castpd_si128(magic)));
+  }
+  /// Each lane's word: float(lo) in its low 32 bits, float(hi) in its high 32 bits.
+  static D pack_floats(const D& lo, const D& hi) {
+    return _mm_castps_pd(_mm_unpacklo_ps(_mm_cvtpd_ps(lo), _mm_cvtpd_ps(hi)));
+  }
+  /// The same with int32 lo and hi (integers held exactly).
+  static D pack_ints(const D& lo, const D& hi) {
+    return _mm_castsi128_pd(_mm_unpacklo_epi32(_mm_cvttpd_epi32(lo), _mm_cvttpd_epi32(hi)));
   }
 };
 #endif

@@ -36,6 +36,8 @@
                      std::uint32_t b);                                                     \
   void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,     \
                      double* high);                                                        \
+  void probe_rows(const double* ints, const double* a, const double* b, const double* c,   \
+                  const double* d, const std::uint64_t (*more)[16], void* out);            \
   }
 
 #if MOSAIC_PROBE_SSE41
@@ -67,6 +69,8 @@ struct Probe {
   void (*compress_float)(const float*, std::uint32_t, float*);
   bool (*scatter)(std::int32_t*, const std::int32_t*, const std::int32_t*, std::uint32_t);
   void (*columns)(const void* const*, std::uint64_t (*)[16], double*, double*);
+  void (*rows)(const double*, const double*, const double*, const double*, const double*,
+               const std::uint64_t (*)[16], void*);
 };
 
 #define MOSAIC_PROBE(ns, isa)                                                        \
@@ -77,7 +81,7 @@ struct Probe {
         &mosaic::simd::ns::probe_float_mask, &mosaic::simd::ns::probe_double_less,   \
         &mosaic::simd::ns::probe_to_float, &mosaic::simd::ns::probe_compress_int,    \
         &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_scatter,   \
-        &mosaic::simd::ns::probe_columns                                             \
+        &mosaic::simd::ns::probe_columns, &mosaic::simd::ns::probe_rows              \
   }
 
 // The probes of every set this build compiles and this CPU runs.
@@ -318,6 +322,44 @@ TEST_F(SimdMask, RecordsBecomeColumns) {
         ASSERT_EQ(std::bit_cast<std::uint64_t>(high[l]),
                   std::bit_cast<std::uint64_t>(static_cast<double>(f[1])))
             << mosaic::to_string(p.isa);
+      }
+    }
+  }
+}
+
+// Lanes into records: integers (negative, and up to 2^50) as int64 words, pairs of floats and of
+// int32s packed low then high, and raw words, each record's words where they belong.
+TEST_F(SimdMask, LanesBecomeRecords) {
+  for (const Probe& p : probes_) {
+    const int DL = p.double_lanes();
+    for (int k = 0; k < 500; ++k) {
+      double ints[8], a[8], b[8], c[8], d[8];
+      std::uint64_t more[8][16] = {};
+      for (int l = 0; l < DL; ++l) {
+        const auto mag = static_cast<double>(rng_() >> (14 + rng_() % 50));  // below 2^50
+        ints[l] = rng_() % 2 ? -mag : mag;
+        a[l] =
+            std::ldexp(static_cast<double>(rng_() % 2000000) - 1e6, -static_cast<int>(rng_() % 20));
+        b[l] = rng_() % 5 == 0 ? -0.0 : static_cast<double>(rng_() % 1000) / 7.0;
+        c[l] = static_cast<double>(static_cast<std::int32_t>(rng_()));
+        d[l] = static_cast<double>(static_cast<std::int32_t>(rng_() % 70000) - 35000);
+        for (int j = 3; j < 8; ++j) more[j][l] = rng_();
+      }
+      alignas(64) std::uint64_t out[8][8];
+      p.rows(ints, a, b, c, d, more, out);
+      for (int l = 0; l < DL; ++l) {
+        ASSERT_EQ(static_cast<std::int64_t>(out[l][0]), static_cast<std::int64_t>(ints[l]))
+            << mosaic::to_string(p.isa) << " lane " << l;
+        const float fa = static_cast<float>(a[l]), fb = static_cast<float>(b[l]);
+        const auto ia = static_cast<std::int32_t>(c[l]), ib = static_cast<std::int32_t>(d[l]);
+        ASSERT_EQ(out[l][1], std::uint64_t{std::bit_cast<std::uint32_t>(fa)} |
+                                 std::uint64_t{std::bit_cast<std::uint32_t>(fb)} << 32)
+            << mosaic::to_string(p.isa) << " lane " << l;
+        ASSERT_EQ(out[l][2], std::uint64_t{static_cast<std::uint32_t>(ia)} |
+                                 std::uint64_t{static_cast<std::uint32_t>(ib)} << 32)
+            << mosaic::to_string(p.isa) << " lane " << l;
+        for (int j = 3; j < 8; ++j)
+          ASSERT_EQ(out[l][j], more[j][l]) << mosaic::to_string(p.isa) << " word " << j;
       }
     }
   }

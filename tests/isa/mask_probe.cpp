@@ -84,4 +84,22 @@ void probe_columns(const void* const* rows, std::uint64_t (*words)[kMaxProbeLane
   Records<Arch>::high_floats(col[0]).store_unaligned(high);
 }
 
+// Records<>::rows() of words made from double lanes: record l at out + l * 64 bytes gets
+// int64s(ints[l]), pack_floats(a[l], b[l]), pack_ints(c[l], d[l]) and words 3..7 as given in
+// more[j][l] (8 words a record, two blocks of four).
+void probe_rows(const double* ints, const double* a, const double* b, const double* c,
+                const double* d, const std::uint64_t (*more)[kMaxProbeLanes], void* out) {
+  using D = T::D;
+  D col[8];
+  col[0] = Records<Arch>::int64s(D::load_unaligned(ints));
+  col[1] = Records<Arch>::pack_floats(D::load_unaligned(a), D::load_unaligned(b));
+  col[2] = Records<Arch>::pack_ints(D::load_unaligned(c), D::load_unaligned(d));
+  for (int j = 3; j < 8; ++j) {
+    alignas(64) double w[T::kDLanes];
+    for (int l = 0; l < T::kDLanes; ++l) std::memcpy(&w[l], &more[j][l], sizeof w[l]);
+    col[j] = D::load_aligned(w);
+  }
+  Records<Arch>::rows(col, 8, out, 64);
+}
+
 }  // namespace mosaic::simd::MOSAIC_ISA

@@ -609,24 +609,45 @@ struct FrontEndSimd {
             static_cast<float>(p.ddy[l])};
   }
 
-  /// Writes lane l's drawn triangle as setup_triangle() and TriangleFrontEnd::run() would,
-  /// appending its colour planes, if it interpolates, to `planes`.
-  static void store(const Results& r, const Vertices& v, int l, const DrawArea& area,
-                    bool per_vertex, Rgba8 flat, std::uint32_t draw_index,
-                    std::vector<Plane>* planes, TriangleSetup& ts) {
-    for (int e = 0; e < 3; ++e)
-      ts.edge[e] = {static_cast<std::int64_t>(r.ea[e][l]), static_cast<std::int64_t>(r.eb[e][l]),
-                    static_cast<std::int64_t>(r.ec[e][l])};
-    ts.x0 = static_cast<float>(r.x0[l]);
-    ts.y0 = static_cast<float>(r.y0[l]);
-    ts.bx0 = static_cast<int>(r.bx0[l]);
-    ts.by0 = static_cast<int>(r.by0[l]);
-    ts.bx1 = static_cast<int>(r.bx1[l]);
-    ts.by1 = static_cast<int>(r.by1[l]);
-    ts.z = plane(r.z, l);
-    ts.z_min = static_cast<float>(r.z_min[l]);
-    ts.z_max = static_cast<float>(r.z_max[l]);
-    ts.planes_base = kNoPlanes;
+  /// The fields of every lane's TriangleSetup that the lanes computed, into batch[l] as
+  /// setup_triangle() would write them: edges, anchor, box, depth plane and range. The colour,
+  /// draw word and planes_base are the lane's own (finish()). Each setup is built as 16 words in
+  /// lanes and the batch's words transposed into its setups (simd::Records).
+  static void build_setups(const Results& r, TriangleSetup (&batch)[N]) {
+    static_assert(sizeof(TriangleSetup) == 16 * 8 && offsetof(TriangleSetup, edge) == 0 &&
+                  sizeof(EdgeFunction) == 24 && offsetof(TriangleSetup, x0) == 72 &&
+                  offsetof(TriangleSetup, y0) == 76 && offsetof(TriangleSetup, bx0) == 80 &&
+                  offsetof(TriangleSetup, by0) == 84 && offsetof(TriangleSetup, bx1) == 88 &&
+                  offsetof(TriangleSetup, by1) == 92 && offsetof(TriangleSetup, z) == 96 &&
+                  offsetof(TriangleSetup, z_min) == 108 && offsetof(TriangleSetup, z_max) == 112 &&
+                  offsetof(TriangleSetup, color) == 116 &&
+                  offsetof(TriangleSetup, draw_word) == 120 &&
+                  offsetof(TriangleSetup, planes_base) == 124);
+    using R = simd::Records<A>;
+    D word[16];
+    for (int e = 0; e < 3; ++e) {
+      word[3 * e] = R::int64s(load(r.ea[e]));
+      word[3 * e + 1] = R::int64s(load(r.eb[e]));
+      word[3 * e + 2] = R::int64s(load(r.ec[e]));
+    }
+    word[9] = R::pack_floats(load(r.x0), load(r.y0));
+    word[10] = R::pack_ints(load(r.bx0), load(r.by0));
+    word[11] = R::pack_ints(load(r.bx1), load(r.by1));
+    word[12] = R::pack_floats(load(r.z.base), load(r.z.ddx));
+    word[13] = R::pack_floats(load(r.z.ddy), load(r.z_min));
+    word[14] = R::pack_floats(load(r.z_max), D(0.0));  // the colour: finish()
+    // The draw word (finish()) and planes_base = kNoPlanes.
+    word[15] =
+        xsimd::bitwise_cast<D>(xsimd::batch<std::uint64_t, A>(std::uint64_t{kNoPlanes} << 32));
+    R::rows(word, 16, batch, sizeof(TriangleSetup));
+  }
+
+  /// The rest of lane l's drawn triangle, ts a copy of its build_setups() setup, as
+  /// setup_triangle() and TriangleFrontEnd::run() would write it: its colour, appending its
+  /// colour planes, if it interpolates, to `planes`, its draw word, and the viewport's move.
+  static void finish(const Results& r, const Vertices& v, int l, const DrawArea& area,
+                     bool per_vertex, Rgba8 flat, std::uint32_t draw_index,
+                     std::vector<Plane>* planes, TriangleSetup& ts) {
     ts.color = flat;
     if (per_vertex) {
       if (planes && (r.interpolated & (1u << l))) {
@@ -682,7 +703,8 @@ struct FrontEndSimd {
     // flag of simd/CMakeLists.txt that removes the same wait inside setup(), ms_setup on
     // random-small (1 thread) went from 6.6 to 6.0 ms on AVX2, 5.2 to 5.1 ms on AVX-512.
     Vertices vertices[2];
-    Results r;  // every field a batch reads is written by that batch first
+    Results r;               // every field a batch reads is written by that batch first
+    TriangleSetup batch[N];  // the drawn lanes' setups, before each is finished and appended
     const auto batch_size = [&](std::uint32_t t0) {
       return static_cast<int>(std::min<std::uint32_t>(N, end - t0));
     };
@@ -715,6 +737,7 @@ struct FrontEndSimd {
       stats.degenerate += static_cast<std::uint64_t>(std::popcount(lanes & r.degenerate));
       stats.no_sample += static_cast<std::uint64_t>(std::popcount(lanes & r.no_sample));
       stats.drawn += static_cast<std::uint64_t>(std::popcount(drawn));
+      if (drawn) build_setups(r, batch);
       for (std::uint32_t bits = (r.scalar & lanes) | drawn; bits; bits &= bits - 1) {
         const int l = std::countr_zero(bits);
         const std::uint32_t t = t0 + static_cast<std::uint32_t>(l);
@@ -724,8 +747,8 @@ struct FrontEndSimd {
         }
         const Rgba8 flat =
             draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
-        TriangleSetup& ts = out.emplace_back();
-        store(r, vertices[cur], l, scalar.area, scalar.per_vertex, flat, draw_index, planes, ts);
+        TriangleSetup& ts = out.emplace_back(batch[l]);
+        finish(r, vertices[cur], l, scalar.area, scalar.per_vertex, flat, draw_index, planes, ts);
         if (scalar.nvary > 0) store_varyings(r, l, scalar.nvary, *planes, ts);
       }
     }
