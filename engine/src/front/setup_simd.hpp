@@ -610,9 +610,9 @@ struct FrontEndSimd {
   }
 
   /// The fields of every lane's TriangleSetup that the lanes computed, into batch[l] as
-  /// setup_triangle() would write them: edges, anchor, box, depth plane and range. The colour,
-  /// draw word and planes_base are the lane's own (finish()). Each setup is built as 16 words in
-  /// lanes and the batch's words transposed into its setups (simd::Records).
+  /// setup_triangle() would write them: edges, anchor, box, depth plane and range, and
+  /// planes_base kNoPlanes; the colour and draw word are the lane's own (finish()). Each setup is
+  /// built as 16 words in lanes and the batch's words transposed into its setups (simd::Records).
   static void build_setups(const Results& r, TriangleSetup (&batch)[N]) {
     static_assert(sizeof(TriangleSetup) == 16 * 8 && offsetof(TriangleSetup, edge) == 0 &&
                   sizeof(EdgeFunction) == 24 && offsetof(TriangleSetup, x0) == 72 &&
