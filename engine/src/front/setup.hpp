@@ -147,7 +147,8 @@ enum class SetupReject { kNone, kFace, kDegenerate, kOutside, kNoSample, kNoCove
 /// A pixel's sample positions from its corner in 16.8 units (raster::sample_x_fixed(0, o)), for
 /// setup's cull of triangles whose box holds no sample position; `count` 0 culls nothing.
 struct SampleSpots {
-  static constexpr int kMax = 16;  ///< the largest pattern's samples
+  /// Positions a pixel can have: the largest pattern's.
+  static constexpr int kMax = static_cast<int>(raster::kPattern16.size());
   int count = 0;
   std::array<std::int32_t, kMax> x{}, y{};
   /// The spots of the standard pattern of `samples` samples (0: none).
