@@ -22,7 +22,7 @@ using Rng = mosaic::SplitMix64;
 
 using mosaic::Isa;
 
-enum class Shape { kSmall, kLarge, kSliver, kHuge, kClipSpace, kOnSamples };
+enum class Shape { kSmall, kTiny, kLarge, kSliver, kHuge, kClipSpace, kOnSamples };
 
 struct TestScene {
   std::vector<glm::vec4> positions;
@@ -44,6 +44,10 @@ TestScene make_scene(Shape shape, int w, int h, int count, std::uint64_t seed, b
     switch (shape) {
       case Shape::kSmall:
         r = rng.uniform(1, 8);
+        break;
+      case Shape::kTiny:
+        // Boxes of one pixel (the kernels' one-pixel path) and just over, as a distant mesh has.
+        r = rng.uniform(0.05, 1.0);
         break;
       case Shape::kLarge:
         r = rng.uniform(0.2, 0.8) * w;
@@ -134,11 +138,9 @@ struct Case {
   const char* name;
 };
 
-constexpr Case kCases[] = {{Shape::kOnSamples, 400, "on-samples"},
-                           {Shape::kSmall, 600, "small"},
-                           {Shape::kLarge, 12, "large"},
-                           {Shape::kSliver, 80, "sliver"},
-                           {Shape::kHuge, 10, "huge"},
+constexpr Case kCases[] = {{Shape::kOnSamples, 400, "on-samples"}, {Shape::kSmall, 600, "small"},
+                           {Shape::kTiny, 3000, "tiny"},           {Shape::kLarge, 12, "large"},
+                           {Shape::kSliver, 80, "sliver"},         {Shape::kHuge, 10, "huge"},
                            {Shape::kClipSpace, 60, "clip"}};
 
 TEST(FastPath, IdenticalToReferenceEverySimdPathSampleCountAndFillRule) {
@@ -175,15 +177,19 @@ TEST(FastPath, IdenticalToReferenceForEveryDepthModeSsaaAndPainter) {
   for (auto test : tests) {
     for (bool write : {true, false}) {
       for (bool ssaa : {false, true}) {
-        const TestScene sc = make_scene(Shape::kSmall, w, h, 300, seed++, true);
-        mosaic::DrawState st;
-        st.depth_test = test;
-        st.depth_write = write;
-        const Result ref = render(sc, w, h, 4, Isa::kReference, 1, st, ssaa);
-        for (Isa isa : simd_isas())
-          expect_same(ref, render(sc, w, h, 4, isa, 2, st, ssaa),
-                      std::string("depth mode ") + std::to_string(int(test)) + " write " +
-                          std::to_string(write) + " ssaa " + std::to_string(ssaa));
+        for (const Shape shape : {Shape::kSmall, Shape::kTiny}) {
+          const TestScene sc =
+              make_scene(shape, w, h, shape == Shape::kTiny ? 2000 : 300, seed++, true);
+          mosaic::DrawState st;
+          st.depth_test = test;
+          st.depth_write = write;
+          const Result ref = render(sc, w, h, 4, Isa::kReference, 1, st, ssaa);
+          for (Isa isa : simd_isas())
+            expect_same(ref, render(sc, w, h, 4, isa, 2, st, ssaa),
+                        std::string(shape == Shape::kTiny ? "tiny" : "small") + " depth mode " +
+                            std::to_string(int(test)) + " write " + std::to_string(write) +
+                            " ssaa " + std::to_string(ssaa));
+        }
       }
     }
   }

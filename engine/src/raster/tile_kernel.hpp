@@ -17,6 +17,8 @@
 // A draw with a shader or blending (generic, shade/shade_simd.hpp) takes the same steps 1-4, keeps
 // each sample's passing lanes, and then colours the block in batches of kShaderBatch pixels:
 // one call of the shader's batch function per batch (not per pixel), then blending per sample.
+// A triangle whose box is one pixel (setup shrinks a tiny triangle's box to its covered samples)
+// skips the walker: pixel_impl() makes the same tests, writes and counts in scalar code.
 // The kernel a triangle gets is specialised on what its draw uses (raster/kernel_traits.hpp;
 // pick() chooses once per bin run): the depth test and write, the colour mode, MSAA or SSAA — a
 // depth-only draw shades nothing and touches no colour memory, and at one sample its kernel is
@@ -129,10 +131,21 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   };
 
   using TriangleFn = void (*)(Context&, const front::TriangleSetup&);
+  /// A draw state's kernel for any box (the block walker), and for a box of one pixel.
+  struct Kernel {
+    TriangleFn box = nullptr, pixel = nullptr;
+  };
   /// The kernels of one draw's triangles: those without colour planes, and those with.
   struct DrawKernels {
-    TriangleFn flat = nullptr, interpolated = nullptr;
+    Kernel flat, interpolated;
   };
+  /// Draws `t` with the kernel its colour and box ask for. Most triangles of a distant mesh have a
+  /// box of one pixel: pixel_impl() draws them without the block walker's per-triangle setup.
+  static void draw_triangle(Context& cx, const DrawKernels& kernels,
+                            const front::TriangleSetup& t) {
+    const Kernel& k = front::is_flat(t) ? kernels.flat : kernels.interpolated;
+    (t.bx1 - t.bx0 == 1 && t.by1 - t.by0 == 1 ? k.pixel : k.box)(cx, t);
+  }
 
   // The specialisations of triangle_impl() a draw's state asks for. Called once per bin run (a
   // run's triangles come from one draw), not per triangle.
@@ -140,28 +153,28 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     const DrawState& ds = f.states[draw];
     if (!ds.color_write) {
       // A depth-only draw shades nothing; at one sample (the occluder pass) it is specialised.
-      const TriangleFn k = f.samples == 1 ? by_depth<ColorMode::kNone, false, 1>(ds)
-                                          : by_depth<ColorMode::kNone, false, 0>(ds);
+      const Kernel k = f.samples == 1 ? by_depth<ColorMode::kNone, false, 1>(ds)
+                                      : by_depth<ColorMode::kNone, false, 0>(ds);
       return {k, k};
     }
     if (!f.shading.empty() && f.shading[draw].generic) {
-      const TriangleFn k = f.shading[draw].discards ? by_depth<ColorMode::kDiscarding, false, 0>(ds)
-                                                    : by_depth<ColorMode::kGeneric, false, 0>(ds);
+      const Kernel k = f.shading[draw].discards ? by_depth<ColorMode::kDiscarding, false, 0>(ds)
+                                                : by_depth<ColorMode::kGeneric, false, 0>(ds);
       return {k, k};
     }
-    const TriangleFn flat = by_samples<ColorMode::kFlat>(ds, f.samples);
+    const Kernel flat = by_samples<ColorMode::kFlat>(ds, f.samples);
     if (f.ssaa) return {flat, by_depth<ColorMode::kInterpolated, true, 0>(ds)};
     return {flat, by_samples<ColorMode::kInterpolated>(ds, f.samples)};
   }
   // At one sample the common kernels know it, so that the per-sample loops unroll. Knowing every
   // count doubled the specialisations, and the sanitizer builds' compile time with them.
   template <ColorMode kColor>
-  static TriangleFn by_samples(const DrawState& ds, int samples) {
+  static Kernel by_samples(const DrawState& ds, int samples) {
     if (samples == 1) return by_depth<kColor, false, 1>(ds);
     return by_depth<kColor, false, 0>(ds);
   }
   template <ColorMode kColor, bool kSsaa, int kSamples>
-  static TriangleFn by_depth(const DrawState& ds) {
+  static Kernel by_depth(const DrawState& ds) {
     switch (ds.depth_test) {
       case DepthTest::kLess:
         return with_write<DepthTest::kLess, kColor, kSsaa, kSamples>(ds.depth_write);
@@ -177,9 +190,17 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     return with_write<DepthTest::kAlways, kColor, kSsaa, kSamples>(ds.depth_write);
   }
   template <DepthTest kTest, ColorMode kColor, bool kSsaa, int kSamples>
-  static TriangleFn with_write(bool write) {
-    if (write) return &triangle_impl<KernelTraits<kTest, true, kColor, kSsaa, kSamples>>;
-    return &triangle_impl<KernelTraits<kTest, false, kColor, kSsaa, kSamples>>;
+  static Kernel with_write(bool write) {
+    if (write) return kernel<KernelTraits<kTest, true, kColor, kSsaa, kSamples>>();
+    return kernel<KernelTraits<kTest, false, kColor, kSsaa, kSamples>>();
+  }
+  template <class K>
+  static Kernel kernel() {
+    // A shader draw's pixels take the block walker's batches.
+    if constexpr (K::kColor == ColorMode::kGeneric || K::kColor == ColorMode::kDiscarding)
+      return {&triangle_impl<K>, &triangle_impl<K>};
+    else
+      return {&triangle_impl<K>, &pixel_impl<K>};
   }
 
   template <DepthTest kTest>
@@ -468,35 +489,155 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         cx.st.samples_tested += tested;
         cx.st.samples_written += written;
 
-        // Keep the block's depth bounds conservative: every stored depth stays in [zmin, zmax].
-        // A sample the triangle covers ends up holding either its new depth, in [blo, bhi], or
-        // an old depth the test kept because it was nearer than the new one.
-        if (kWrite && written) {
-          const std::uint64_t samples =
-              static_cast<std::uint64_t>(std::popcount(cx.valid[blk])) * S;
-          const bool all_covered = covered == samples, all_written = written == samples;
-          float& zmn = cx.sc.zmin[blk];
-          float& zmx = cx.sc.zmax[blk];
-          const float old_lo = zmn, old_hi = zmx;
-          update_block_bounds<kTest>(zmn, zmx, blo, bhi, all_covered, all_written);
-          // Small triangles never cover a whole block, so the bounds above never tighten on a
-          // mesh. Once small triangles (boxes of at most 2×2 blocks) have written a block's worth
-          // of samples since the bounds were last tight, they are made exact from its depths:
-          // one reduction per block's worth of writes. A cover of the whole block has just
-          // tightened them; a large triangle's partial covers are left to it.
-          std::uint32_t& since = cx.sc.hiz_written[blk];
-          if (all_covered) {
-            since = 0;
-          } else if (small_box && (since += static_cast<std::uint32_t>(written)) >= samples) {
-            since = 0;
-            std::tie(zmn, zmx) = exact_block_bounds(cx, blk);
+        if (kWrite && written)
+          keep_block_bounds<kTest>(cx, blk, S, covered, written, blo, bhi, small_box);
+      }
+    }
+  }
+
+  // triangle_impl() for a triangle whose box is one pixel (of this tile, which the bin holds it
+  // for): the tile's hierarchical z, then one_pixel().
+  template <class K>
+  static void pixel_impl(Context& cx, const front::TriangleSetup& t) {
+    constexpr DepthTest kTest = K::kTest;
+    if constexpr (kTest != DepthTest::kAlways) {
+      // (The box is whole and small: its depth range is the vertices'.)
+      bool hidden = hiz_classify<kTest>(t.z_min, t.z_max, cx.tile_zmin, cx.tile_zmax) < 0;
+      if (!hidden && cx.tile_z_loose) {
+        refresh_tile_z(cx);
+        hidden = hiz_classify<kTest>(t.z_min, t.z_max, cx.tile_zmin, cx.tile_zmax) < 0;
+      }
+      if (hidden) {
+        const typename Context::BlockRect& c = cx.cover_blocks;
+        const int bx = (t.bx0 - cx.tile.x0) / kBlockSize, by = (t.by0 - cx.tile.y0) / kBlockSize;
+        if (bx >= c.x0 && bx < c.x1 && by >= c.y0 && by < c.y1) ++cx.st.blocks_hiz_rejected;
+        return;
+      }
+    }
+    one_pixel<K>(cx, t, t.bx0, t.by0, t.z_min, t.z_max);
+  }
+
+  // The block walk of triangle_impl() for a box of one pixel (px, py) in the tile, in scalar code:
+  // the block's corner test, its hierarchical z with the box's depth range [blo, bhi], then each
+  // sample's exact edge values, the reference's depth and the kernel's colour, and the block's
+  // counters and bounds as the walker keeps them.
+  template <class K>
+  [[gnu::always_inline]] static void one_pixel(Context& cx, const front::TriangleSetup& t, int px,
+                                               int py, float blo, float bhi) {
+    constexpr DepthTest kTest = K::kTest;
+    constexpr bool kWrite = K::kWrite;
+    const TileRect& tile = cx.tile;
+    const int S = K::kSamples ? K::kSamples : cx.f.samples;
+    const int bx = (px - tile.x0) / kBlockSize, by = (py - tile.y0) / kBlockSize;
+    const int px0 = tile.x0 + bx * kBlockSize, py0 = tile.y0 + by * kBlockSize;
+    const int blk = by * cx.side + bx;
+    const std::uint64_t inside = cx.cover[blk];
+    for (int e = 0; e < 3; ++e) {
+      const std::int64_t a = t.edge[e].a, b = t.edge[e].b;
+      const std::int64_t hi =
+          a * (std::int64_t{px0} * kSubpixel) + b * (std::int64_t{py0} * kSubpixel) + t.edge[e].c +
+          std::max<std::int64_t>(0, a * kBlockSpan) + std::max<std::int64_t>(0, b * kBlockSpan);
+      if (hi < 0) return;  // the corner test rejects the block before it is counted
+    }
+    if (!inside) return;
+    const int hz = hiz_classify<kTest>(blo, bhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
+    if (hz < 0) {
+      ++cx.st.blocks_hiz_rejected;
+      return;
+    }
+    const bool test = hz == 0;
+    if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
+
+    const int col = px - px0, row = py - py0, p = row * kBlockSize + col;
+    std::uint64_t covered = 0, written = 0;
+    if ((inside >> p) & 1) {
+      float* dpix = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + p;
+      [[maybe_unused]] std::uint32_t* cpix =
+          K::kColor != ColorMode::kNone
+              ? cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + p
+              : nullptr;
+      // The lanes' positions: the block corner plus the lane's column and sample offset.
+      const float fx_blk = static_cast<float>(px0), fy_row = static_cast<float>(py0);
+      const float colf = static_cast<float>(col), rowf = static_cast<float>(row);
+      [[maybe_unused]] std::uint32_t pixel_color = 0;
+      [[maybe_unused]] bool shaded = false;
+      for (int s = 0; s < S; ++s) {
+        const std::int64_t sx =
+            std::int64_t{px} * kSubpixel + (K::kOneSample ? kHalf : cx.soff[0][s]);
+        const std::int64_t sy =
+            std::int64_t{py} * kSubpixel + (K::kOneSample ? kHalf : cx.soff[1][s]);
+        if ((t.edge[0](sx, sy) | t.edge[1](sx, sy) | t.edge[2](sx, sy)) < 0) continue;
+        ++covered;
+        const float fx = fx_blk + (colf + cx.ln.oxs[s]), fy = fy_row + (rowf + cx.ln.oys[s]);
+        const float z = front::sample_depth(t, fx, fy);
+        float& d = dpix[s * kBlockPixels];
+        if (test && !passes_one<kTest>(z, d)) continue;
+        if constexpr (kWrite) d = z;
+        ++written;
+        if constexpr (K::kColor == ColorMode::kFlat) {
+          cpix[s * kBlockPixels] = static_cast<std::uint32_t>(Sh::bits_of(t.color));
+        } else if constexpr (K::kColor == ColorMode::kInterpolated) {
+          const front::Plane* planes = cx.ln.planes + t.planes_base;
+          if (K::kSsaa) {
+            pixel_color = first_lane(Sh::interpolate(t, planes, F(fx), F(fy)));
+          } else if (!shaded) {
+            pixel_color = first_lane(
+                Sh::interpolate(t, planes, F((fx_blk + colf) + 0.5f), F((fy_row + rowf) + 0.5f)));
+            shaded = true;
           }
-          cx.tile_zmin = std::min(cx.tile_zmin, zmn);
-          cx.tile_zmax = std::max(cx.tile_zmax, zmx);
-          cx.tile_z_loose |= zmn > old_lo || zmx < old_hi;
+          cpix[s * kBlockPixels] = pixel_color;
         }
       }
     }
+    cx.st.samples_tested += covered;
+    cx.st.samples_written += written;
+    if (kWrite && written) keep_block_bounds<kTest>(cx, blk, S, covered, written, blo, bhi, true);
+  }
+
+  template <DepthTest kTest>
+  static bool passes_one(float z, float stored) {
+    if constexpr (kTest == DepthTest::kLess) return z < stored;
+    if constexpr (kTest == DepthTest::kLessEqual) return z <= stored;
+    if constexpr (kTest == DepthTest::kGreater) return z > stored;
+    if constexpr (kTest == DepthTest::kGreaterEqual) return z >= stored;
+    return true;
+  }
+
+  static std::uint32_t first_lane(I v) {
+    alignas(64) std::int32_t lanes[L];
+    v.store_aligned(lanes);
+    return static_cast<std::uint32_t>(lanes[0]);
+  }
+
+  // Keeps a block's depth bounds conservative after a triangle wrote `written` of its samples and
+  // covered `covered`: every stored depth stays in [zmin, zmax]. A sample the triangle covers ends
+  // up holding either its new depth, in [blo, bhi], or an old depth the test kept because it was
+  // nearer than the new one.
+  template <DepthTest kTest>
+  [[gnu::always_inline]] static void keep_block_bounds(Context& cx, int blk, int S,
+                                                       std::uint64_t covered, std::uint64_t written,
+                                                       float blo, float bhi, bool small_box) {
+    const std::uint64_t samples = static_cast<std::uint64_t>(std::popcount(cx.valid[blk])) * S;
+    const bool all_covered = covered == samples, all_written = written == samples;
+    float& zmn = cx.sc.zmin[blk];
+    float& zmx = cx.sc.zmax[blk];
+    const float old_lo = zmn, old_hi = zmx;
+    update_block_bounds<kTest>(zmn, zmx, blo, bhi, all_covered, all_written);
+    // Small triangles never cover a whole block, so the bounds above never tighten on a mesh.
+    // Once small triangles (boxes of at most 2×2 blocks) have written a block's worth of samples
+    // since the bounds were last tight, they are made exact from its depths: one reduction per
+    // block's worth of writes. A cover of the whole block has just tightened them; a large
+    // triangle's partial covers are left to it.
+    std::uint32_t& since = cx.sc.hiz_written[blk];
+    if (all_covered) {
+      since = 0;
+    } else if (small_box && (since += static_cast<std::uint32_t>(written)) >= samples) {
+      since = 0;
+      std::tie(zmn, zmx) = exact_block_bounds(cx, blk);
+    }
+    cx.tile_zmin = std::min(cx.tile_zmin, zmn);
+    cx.tile_zmax = std::max(cx.tile_zmax, zmx);
+    cx.tile_z_loose |= zmn > old_lo || zmx < old_hi;
   }
 
   // Colours a block of a shaded or blending draw where its samples passed (shade/shade_simd.hpp).
@@ -869,7 +1010,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         kernels = pick(f, t.draw());
         clip_coverage(cx, t.draw());
       }
-      (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
+      draw_triangle(cx, kernels, t);
     }
     Sh::flush(cx.queue);
   }
@@ -956,7 +1097,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       }
       cx.ln.planes = run.planes;
       const front::TriangleSetup& t = run.tris[run.indices[items[i].index]];
-      (front::is_flat(t) ? kernels.flat : kernels.interpolated)(cx, t);
+      draw_triangle(cx, kernels, t);
     }
   }
 
