@@ -4,6 +4,8 @@
 // vertices themselves, not the setup's edge functions. Tiny triangles, and needles along each
 // axis and the diagonal whose boxes hold just up to and just over front::kMaxCullCandidates
 // samples, on every path and sample count, drawn at the target's corner and through a viewport.
+// A tested triangle that covers a sample keeps the box of its covered samples' pixels: checked
+// against the oracle, and drawn through the tile kernels' one-pixel path against the reference.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,7 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "front/draw_area.hpp"
 #include "front/sample_cull.hpp"
+#include "front/setup.hpp"
 #include "mosaic/mosaic.hpp"
 #include "raster/sample_patterns.hpp"
 #include "scenes/rng.hpp"
@@ -300,6 +304,73 @@ TEST(SampleCull, CulledTrianglesCoverNoSampleAndTheImageIsExact) {
         }
       }
     }
+  }
+}
+
+// The pixels [x0, x1) × [y0, y1) holding a sample the triangle covers, by the oracle's
+// orientation tests (empty when none).
+struct PixelBox {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool operator==(const PixelBox&) const = default;
+};
+PixelBox covered_box(const Tri& t, std::span<const mosaic::raster::SampleOffset> pattern) {
+  PixelBox b{1 << 20, 1 << 20, -(1 << 20), -(1 << 20)};
+  const int cx = (t.cell % kCellsPerRow) * kCell, cy = (t.cell / kCellsPerRow) * kCell;
+  for (int py = cy; py < cy + kCell; ++py)
+    for (int px = cx; px < cx + kCell; ++px)
+      for (const auto o : pattern) {
+        const Pt p{mosaic::raster::sample_x_fixed(px, o), mosaic::raster::sample_y_fixed(py, o)};
+        const std::int64_t o0 = orient(t.v[0], t.v[1], p), o1 = orient(t.v[1], t.v[2], p),
+                           o2 = orient(t.v[2], t.v[0], p);
+        if ((o0 > 0 && o1 > 0 && o2 > 0) || (o0 < 0 && o1 < 0 && o2 < 0))
+          b = {std::min(b.x0, px), std::min(b.y0, py), std::max(b.x1, px + 1),
+               std::max(b.y1, py + 1)};
+      }
+  return b.x0 < b.x1 ? b : PixelBox{};
+}
+
+TEST(SampleCull, TestedTrianglesKeepTheBoxOfTheirCoveredSamples) {
+  mosaic::SplitMix64 rng{77};
+  for (int samples : {1, 4, 8, 16}) {
+    const auto pattern = mosaic::raster::sample_pattern(samples);
+    const mosaic::front::SampleSpots spots = mosaic::front::SampleSpots::of(samples);
+    int shrunk = 0, to_one_pixel = 0, kept = 0;
+    for (int k = 0; k < 4000; ++k) {
+      const Tri t = make_tri(Kind::kTiny, 0, rng, k % 64, pattern);
+      std::array<mosaic::front::ScreenVertex, 3> v;
+      for (int i = 0; i < 3; ++i) {
+        v[i].x = static_cast<double>(t.v[i][0]) / kPx;
+        v[i].y = static_cast<double>(t.v[i][1]) / kPx;
+      }
+      mosaic::DrawState state;
+      state.cull = mosaic::CullMode::kNone;
+      mosaic::front::TriangleSetup out;
+      const auto reject = mosaic::front::setup_triangle(
+          v, state, mosaic::front::DrawArea::whole(kCell * kCellsPerRow, kCell * 8), false, {}, out,
+          nullptr, nullptr, &spots);
+      if (reject != mosaic::front::SetupReject::kNone) continue;
+      const PixelBox got{out.bx0, out.by0, out.bx1, out.by1};
+      const PixelBox want = covered_box(t, pattern);
+      const bool tested =
+          box_pixels(t) * samples <= mosaic::front::kMaxCullCandidates && small_area(t, samples);
+      // A sample on an edge is the fill rule's to decide: the box may then hold one more pixel.
+      const Expected e = oracle({t}, kCell * kCellsPerRow, kCell * 8, pattern);
+      if (e.ambiguous[0]) continue;
+      if (tested) {
+        EXPECT_EQ(got, want) << samples << "x triangle " << k;
+        shrunk += box_pixels(t) != (want.x1 - want.x0) * (want.y1 - want.y0);
+        to_one_pixel += (want.x1 - want.x0) * (want.y1 - want.y0) == 1;
+      } else {
+        // Untested: the box of its vertices, which holds the covered samples' box.
+        ++kept;
+        EXPECT_EQ((got.x1 - got.x0) * (got.y1 - got.y0), box_pixels(t)) << samples << "x " << k;
+      }
+    }
+    std::printf("%dx: %d boxes shrunk, %d to one pixel, %d untested\n", samples, shrunk,
+                to_one_pixel, kept);
+    EXPECT_GT(shrunk, 0) << samples << "x";
+    EXPECT_GT(to_one_pixel, 0) << samples << "x";
+    if (samples <= 4) EXPECT_GT(kept, 0) << samples << "x";
   }
 }
 

@@ -111,7 +111,7 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
   if (spots &&
       !box_holds_sample(*spots, minx, maxx, miny, maxy, out.bx0, out.bx1, out.by0, out.by1))
     return SetupReject::kNoSample;
-  if (spots && covers_no_sample(out, *spots)) return SetupReject::kNoCoveredSample;
+  if (spots && !shrink_to_covered(out, *spots)) return SetupReject::kNoCoveredSample;
 
   std::array<double, 3> X, Y, Z, Q;
   for (int i = 0; i < 3; ++i) {

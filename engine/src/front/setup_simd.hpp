@@ -524,7 +524,7 @@ struct FrontEndSimd {
     }
     const std::uint32_t set_up_lanes =
         kAllLanes & ~(r.scalar | r.outside | r.face | r.degenerate | r.no_sample);
-    r.no_sample |= no_covered_sample(ea, eb, ec, bx0, by0, bx1, by1, area2, spots, set_up_lanes);
+    r.no_sample |= shrink_to_covered(ea, eb, ec, bx0, by0, bx1, by1, area2, spots, set_up_lanes, r);
 
     // Planes over the oriented corners in pixels (x / 256 is exact: a power of two).
     const D Xs[3] = {ox[0] * D(kPxPerUnit), ox[1] * D(kPxPerUnit), ox[2] * D(kPxPerUnit)};
@@ -548,12 +548,14 @@ struct FrontEndSimd {
     }
   }
 
-  /// covers_no_sample() of front/sample_cull.hpp in lanes: those of `lanes` the cull tests and
-  /// whose candidate samples all lie outside an edge. A tested lane's edge values are integers
-  /// below 2^50 and each step adds one, so every sum is exact: the scalar int64 values.
-  static std::uint32_t no_covered_sample(const D (&ea)[3], const D (&eb)[3], const D (&ec)[3],
+  /// shrink_to_covered() of front/sample_cull.hpp in lanes: returns those of `lanes` the cull
+  /// tests whose candidate samples all lie outside an edge, and shrinks the boxes in `r` of the
+  /// tested lanes that cover one. A tested lane's edge values are integers below 2^50 and each
+  /// step adds one, so every sum is exact: the scalar int64 values.
+  static std::uint32_t shrink_to_covered(const D (&ea)[3], const D (&eb)[3], const D (&ec)[3],
                                          D bx0, D by0, D bx1, D by1, D area2,
-                                         const SampleSpots& spots, std::uint32_t lanes) {
+                                         const SampleSpots& spots, std::uint32_t lanes,
+                                         Results& r) {
     if (spots.count == 0) return 0;  // no positions: nothing is culled
     const D w = bx1 - bx0, h = by1 - by0, samples(static_cast<double>(spots.count));
     const B tests = w * h * samples <= D(kMaxCullCandidates) &&
@@ -578,11 +580,14 @@ struct FrontEndSimd {
     // candidate without a mask.
     constexpr double kInf = std::numeric_limits<double>::infinity();
     const D inf(kInf), minus_inf(-kInf);
-    D column[kMaxCullCandidates];
-    for (int x = 0; x < wmax; ++x)
+    // column_best, row_best: the largest over each column's and each row's candidates of the
+    // smallest edge value, >= 0 where one of them is inside.
+    D column[kMaxCullCandidates], column_best[kMaxCullCandidates], row_best[kMaxCullCandidates];
+    for (int x = 0; x < wmax; ++x) {
       column[x] = xsimd::select(D(static_cast<double>(x)) < w, inf, minus_inf);
-    // The largest over candidates of the smallest edge value: >= 0 where one is inside.
-    D best = minus_inf;
+      column_best[x] = minus_inf;
+    }
+    for (int y = 0; y < hmax; ++y) row_best[y] = minus_inf;
     for (int s = 0; s < spots.count; ++s) {
       const D sx = corner_x + D(static_cast<double>(spots.x[s]));
       const D sy = corner_y + D(static_cast<double>(spots.y[s]));
@@ -591,17 +596,46 @@ struct FrontEndSimd {
       for (int y = 0; y < hmax; ++y) {
         const D in_row = xsimd::select(D(static_cast<double>(y)) < h, inf, minus_inf);
         D e0 = row[0], e1 = row[1], e2 = row[2];
+        D best = minus_inf;
         for (int x = 0; x < wmax; ++x) {
           const D bound = xsimd::min(column[x], in_row);
-          best = xsimd::max(best, xsimd::min(xsimd::min(e0, e1), xsimd::min(e2, bound)));
+          const D v = xsimd::min(xsimd::min(e0, e1), xsimd::min(e2, bound));
+          column_best[x] = xsimd::max(column_best[x], v);
+          best = xsimd::max(best, v);
           e0 += step_x[0];
           e1 += step_x[1];
           e2 += step_x[2];
         }
+        row_best[y] = xsimd::max(row_best[y], best);
         for (int e = 0; e < 3; ++e) row[e] += step_y[e];
       }
     }
-    return lanes & ~M::bits(best >= D(0.0));
+    // The covered columns' and rows' range, from the box's first.
+    D x_lo = inf, x_hi = minus_inf, y_lo = inf, y_hi = minus_inf;
+    for (int x = 0; x < wmax; ++x) {
+      const B in = column_best[x] >= D(0.0);
+      x_lo = xsimd::min(x_lo, xsimd::select(in, D(static_cast<double>(x)), inf));
+      x_hi = xsimd::select(in, D(static_cast<double>(x + 1)), x_hi);
+    }
+    for (int y = 0; y < hmax; ++y) {
+      const B in = row_best[y] >= D(0.0);
+      y_lo = xsimd::min(y_lo, xsimd::select(in, D(static_cast<double>(y)), inf));
+      y_hi = xsimd::select(in, D(static_cast<double>(y + 1)), y_hi);
+    }
+    const std::uint32_t covered = M::bits(x_hi >= D(0.0));
+    alignas(64) double box[4][N];
+    (bx0 + x_lo).store_aligned(box[0]);
+    (bx0 + x_hi).store_aligned(box[1]);
+    (by0 + y_lo).store_aligned(box[2]);
+    (by0 + y_hi).store_aligned(box[3]);
+    for (std::uint32_t b = lanes & covered; b; b &= b - 1) {
+      const int l = std::countr_zero(b);
+      r.bx0[l] = box[0][l];
+      r.bx1[l] = box[1][l];
+      r.by0[l] = box[2][l];
+      r.by1[l] = box[3][l];
+    }
+    return lanes & ~covered;
   }
 
   static Plane plane(const PlaneLanes& p, int l) {
