@@ -26,7 +26,7 @@ inline constexpr int kMaxCullCandidates = 32;
 /// The cull tests only triangles expected to cover at most this many samples (area in px² times
 /// samples per pixel): a larger one nearly always covers one, and testing it costs more than the
 /// kernels spend on the few that do not (the README's measurements).
-inline constexpr std::int64_t kCullMaxExpectedSamples = 1;
+inline constexpr std::int64_t kCullMaxExpectedSamples = 2;
 
 /// Twice the area of one pixel in 16.8 units², the unit of an edge cross product.
 inline constexpr std::int64_t kPixelArea2 = 2 * kSubpixelOne * kSubpixelOne;
