@@ -17,8 +17,9 @@
 // A draw with a shader or blending (generic, shade/shade_simd.hpp) takes the same steps 1-4, keeps
 // each sample's passing lanes, and then colours the block in batches of kShaderBatch pixels:
 // one call of the shader's batch function per batch (not per pixel), then blending per sample.
-// A triangle whose box is one pixel (setup shrinks a tiny triangle's box to its covered samples)
-// skips the walker: pixel_impl() makes the same tests, writes and counts in scalar code.
+// A triangle whose box is a few pixels of one block (setup shrinks a tiny triangle's box to its
+// covered samples) skips the walker: pixel_impl() makes the same tests, writes and counts in
+// scalar code.
 // The kernel a triangle gets is specialised on what its draw uses (raster/kernel_traits.hpp;
 // pick() chooses once per bin run): the depth test and write, the colour mode, MSAA or SSAA — a
 // depth-only draw shades nothing and touches no colour memory, and at one sample its kernel is
@@ -131,7 +132,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   };
 
   using TriangleFn = void (*)(Context&, const front::TriangleSetup&);
-  /// A draw state's kernel for any box (the block walker), and for a box of one pixel.
+  /// A draw state's kernel for any box (the block walker), and for a box of a few pixels.
   struct Kernel {
     TriangleFn box = nullptr, pixel = nullptr;
   };
@@ -139,12 +140,20 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   struct DrawKernels {
     Kernel flat, interpolated;
   };
+  /// Whether `t`'s box holds at most kPixelPathMax pixels, all in one block (tiles start on
+  /// block boundaries, so the block is in the tile the bin holds the triangle for).
+  static bool few_pixels(const front::TriangleSetup& t) {
+    return (t.bx1 - t.bx0) * (t.by1 - t.by0) <= kPixelPathMax &&
+           (t.bx0 >> kBlockShift) == ((t.bx1 - 1) >> kBlockShift) &&
+           (t.by0 >> kBlockShift) == ((t.by1 - 1) >> kBlockShift);
+  }
   /// Draws `t` with the kernel its colour and box ask for. Most triangles of a distant mesh have a
-  /// box of one pixel: pixel_impl() draws them without the block walker's per-triangle setup.
+  /// box of a pixel or a few: pixel_impl() draws them without the block walker's per-triangle
+  /// setup.
   static void draw_triangle(Context& cx, const DrawKernels& kernels,
                             const front::TriangleSetup& t) {
     const Kernel& k = front::is_flat(t) ? kernels.flat : kernels.interpolated;
-    (t.bx1 - t.bx0 == 1 && t.by1 - t.by0 == 1 ? k.pixel : k.box)(cx, t);
+    (few_pixels(t) ? k.pixel : k.box)(cx, t);
   }
 
   // The specialisations of triangle_impl() a draw's state asks for. Called once per bin run (a
@@ -495,8 +504,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
   }
 
-  // triangle_impl() for a triangle whose box is one pixel (of this tile, which the bin holds it
-  // for): the tile's hierarchical z, then one_pixel().
+  // triangle_impl() for a triangle whose box is a few pixels of one block (few_pixels(t)): the
+  // tile's hierarchical z, then few_pixels().
   template <class K>
   static void pixel_impl(Context& cx, const front::TriangleSetup& t) {
     constexpr DepthTest kTest = K::kTest;
@@ -514,21 +523,20 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         return;
       }
     }
-    one_pixel<K>(cx, t, t.bx0, t.by0, t.z_min, t.z_max);
+    few_pixels<K>(cx, t, t.z_min, t.z_max);
   }
 
-  // The block walk of triangle_impl() for a box of one pixel (px, py) in the tile, in scalar code:
-  // the block's corner test, its hierarchical z with the box's depth range [blo, bhi], then each
-  // sample's exact edge values, the reference's depth and the kernel's colour, and the block's
-  // counters and bounds as the walker keeps them.
+  // The block walk of triangle_impl() for a box of a few pixels in one block, in scalar code:
+  // the block's corner test, its hierarchical z with the box's depth range [blo, bhi], each
+  // pixel's samples (pixel_samples()), and the block's counters and bounds as the walker keeps
+  // them.
   template <class K>
-  [[gnu::always_inline]] static void one_pixel(Context& cx, const front::TriangleSetup& t, int px,
-                                               int py, float blo, float bhi) {
+  [[gnu::always_inline]] static void few_pixels(Context& cx, const front::TriangleSetup& t,
+                                                float blo, float bhi) {
     constexpr DepthTest kTest = K::kTest;
-    constexpr bool kWrite = K::kWrite;
     const TileRect& tile = cx.tile;
     const int S = K::kSamples ? K::kSamples : cx.f.samples;
-    const int bx = (px - tile.x0) / kBlockSize, by = (py - tile.y0) / kBlockSize;
+    const int bx = (t.bx0 - tile.x0) / kBlockSize, by = (t.by0 - tile.y0) / kBlockSize;
     const int px0 = tile.x0 + bx * kBlockSize, py0 = tile.y0 + by * kBlockSize;
     const int blk = by * cx.side + bx;
     const std::uint64_t inside = cx.cover[blk];
@@ -547,51 +555,69 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
     const bool test = hz == 0;
     if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
-
-    const int col = px - px0, row = py - py0, p = row * kBlockSize + col;
     std::uint64_t covered = 0, written = 0;
-    if ((inside >> p) & 1) {
-      float* dpix = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + p;
-      [[maybe_unused]] std::uint32_t* cpix =
-          K::kColor != ColorMode::kNone
-              ? cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + p
-              : nullptr;
-      // The lanes' positions: the block corner plus the lane's column and sample offset.
-      const float fx_blk = static_cast<float>(px0), fy_row = static_cast<float>(py0);
-      const float colf = static_cast<float>(col), rowf = static_cast<float>(row);
-      [[maybe_unused]] std::uint32_t pixel_color = 0;
-      [[maybe_unused]] bool shaded = false;
-      for (int s = 0; s < S; ++s) {
-        const std::int64_t sx =
-            std::int64_t{px} * kSubpixel + (K::kOneSample ? kHalf : cx.soff[0][s]);
-        const std::int64_t sy =
-            std::int64_t{py} * kSubpixel + (K::kOneSample ? kHalf : cx.soff[1][s]);
-        if ((t.edge[0](sx, sy) | t.edge[1](sx, sy) | t.edge[2](sx, sy)) < 0) continue;
-        ++covered;
-        const float fx = fx_blk + (colf + cx.ln.oxs[s]), fy = fy_row + (rowf + cx.ln.oys[s]);
-        const float z = front::sample_depth(t, fx, fy);
-        float& d = dpix[s * kBlockPixels];
-        if (test && !passes_one<kTest>(z, d)) continue;
-        if constexpr (kWrite) d = z;
-        ++written;
-        if constexpr (K::kColor == ColorMode::kFlat) {
-          cpix[s * kBlockPixels] = static_cast<std::uint32_t>(Sh::bits_of(t.color));
-        } else if constexpr (K::kColor == ColorMode::kInterpolated) {
-          const front::Plane* planes = cx.ln.planes + t.planes_base;
-          if (K::kSsaa) {
-            pixel_color = first_lane(Sh::interpolate(t, planes, F(fx), F(fy)));
-          } else if (!shaded) {
-            pixel_color = first_lane(
-                Sh::interpolate(t, planes, F((fx_blk + colf) + 0.5f), F((fy_row + rowf) + 0.5f)));
-            shaded = true;
-          }
-          cpix[s * kBlockPixels] = pixel_color;
-        }
-      }
+    if (t.bx1 - t.bx0 == 1 && t.by1 - t.by0 == 1) {  // the common box: one pixel
+      pixel_samples<K>(cx, t, blk, px0, py0, t.bx0 - px0, t.by0 - py0, inside, test, covered,
+                       written);
+    } else {
+      for (int py = t.by0; py < t.by1; ++py)
+        for (int px = t.bx0; px < t.bx1; ++px)
+          pixel_samples<K>(cx, t, blk, px0, py0, px - px0, py - py0, inside, test, covered,
+                           written);
     }
     cx.st.samples_tested += covered;
     cx.st.samples_written += written;
-    if (kWrite && written) keep_block_bounds<kTest>(cx, blk, S, covered, written, blo, bhi, true);
+    if (K::kWrite && written)
+      keep_block_bounds<kTest>(cx, blk, S, covered, written, blo, bhi, true);
+  }
+
+  // The samples of pixel (col, row) of block blk (corner px0, py0) for few_pixels(): exact edge
+  // values, the reference's depth, and the kernel's colour, at the lanes' positions (block corner
+  // plus column and sample offset); adds the samples covered and written.
+  template <class K>
+  [[gnu::always_inline]] static void pixel_samples(Context& cx, const front::TriangleSetup& t,
+                                                   int blk, int px0, int py0, int col, int row,
+                                                   std::uint64_t inside, bool test,
+                                                   std::uint64_t& covered, std::uint64_t& written) {
+    const int p = row * kBlockSize + col;
+    if (!((inside >> p) & 1)) return;
+    const int S = K::kSamples ? K::kSamples : cx.f.samples;
+    float* dpix = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + p;
+    [[maybe_unused]] std::uint32_t* cpix =
+        K::kColor != ColorMode::kNone
+            ? cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + p
+            : nullptr;
+    const float fx_blk = static_cast<float>(px0), fy_row = static_cast<float>(py0);
+    const float colf = static_cast<float>(col), rowf = static_cast<float>(row);
+    const std::int64_t x = std::int64_t{px0 + col} * kSubpixel,
+                       y = std::int64_t{py0 + row} * kSubpixel;
+    [[maybe_unused]] std::uint32_t pixel_color = 0;
+    [[maybe_unused]] bool shaded = false;
+    for (int s = 0; s < S; ++s) {
+      const std::int64_t sx = x + (K::kOneSample ? kHalf : cx.soff[0][s]);
+      const std::int64_t sy = y + (K::kOneSample ? kHalf : cx.soff[1][s]);
+      if ((t.edge[0](sx, sy) | t.edge[1](sx, sy) | t.edge[2](sx, sy)) < 0) continue;
+      ++covered;
+      const float fx = fx_blk + (colf + cx.ln.oxs[s]), fy = fy_row + (rowf + cx.ln.oys[s]);
+      const float z = front::sample_depth(t, fx, fy);
+      float& d = dpix[s * kBlockPixels];
+      if (test && !passes_one<K::kTest>(z, d)) continue;
+      if constexpr (K::kWrite) d = z;
+      ++written;
+      if constexpr (K::kColor == ColorMode::kFlat) {
+        cpix[s * kBlockPixels] = static_cast<std::uint32_t>(Sh::bits_of(t.color));
+      } else if constexpr (K::kColor == ColorMode::kInterpolated) {
+        const front::Plane* planes = cx.ln.planes + t.planes_base;
+        if (K::kSsaa) {
+          pixel_color = first_lane(Sh::interpolate(t, planes, F(fx), F(fy)));
+        } else if (!shaded) {
+          pixel_color = first_lane(
+              Sh::interpolate(t, planes, F((fx_blk + colf) + 0.5f), F((fy_row + rowf) + 0.5f)));
+          shaded = true;
+        }
+        cpix[s * kBlockPixels] = pixel_color;
+      }
+    }
   }
 
   template <DepthTest kTest>
@@ -1140,6 +1166,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   /// Bytes of an interpolated triangle's q and colour planes, prefetched with the next triangle.
   static constexpr int kColorPlaneBytes =
       static_cast<int>(front::kColorPlanes * sizeof(front::Plane));
+  /// Boxes of at most this many pixels, in one block, skip the block walker (few_pixels()).
+  static constexpr int kPixelPathMax = 4;
+  static constexpr int kBlockShift = std::countr_zero(static_cast<unsigned>(kBlockSize));
+  static_assert(kBlockSize == 1 << kBlockShift);
   static constexpr std::int64_t kHalf = 128;  ///< half a pixel: the pixel centre
   static constexpr std::int64_t kBlockSpan = kBlockSize * kSubpixel;  ///< a block's width in 16.8
 };
