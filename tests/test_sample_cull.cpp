@@ -370,7 +370,9 @@ TEST(SampleCull, TestedTrianglesKeepTheBoxOfTheirCoveredSamples) {
                 to_one_pixel, kept);
     EXPECT_GT(shrunk, 0) << samples << "x";
     EXPECT_GT(to_one_pixel, 0) << samples << "x";
-    if (samples <= 4) EXPECT_GT(kept, 0) << samples << "x";
+    if (samples <= 4) {
+      EXPECT_GT(kept, 0) << samples << "x";
+    }
   }
 }
 
