@@ -142,7 +142,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   };
   /// Whether `t`'s box holds at most kPixelPathMax pixels, all in one block (tiles start on
   /// block boundaries, so the block is in the tile the bin holds the triangle for).
-  static bool few_pixels(const front::TriangleSetup& t) {
+  static bool takes_pixel_path(const front::TriangleSetup& t) {
     return (t.bx1 - t.bx0) * (t.by1 - t.by0) <= kPixelPathMax &&
            (t.bx0 >> kBlockShift) == ((t.bx1 - 1) >> kBlockShift) &&
            (t.by0 >> kBlockShift) == ((t.by1 - 1) >> kBlockShift);
@@ -153,7 +153,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   static void draw_triangle(Context& cx, const DrawKernels& kernels,
                             const front::TriangleSetup& t) {
     const Kernel& k = front::is_flat(t) ? kernels.flat : kernels.interpolated;
-    (few_pixels(t) ? k.pixel : k.box)(cx, t);
+    (takes_pixel_path(t) ? k.pixel : k.box)(cx, t);
   }
 
   // The specialisations of triangle_impl() a draw's state asks for. Called once per bin run (a
@@ -504,7 +504,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
   }
 
-  // triangle_impl() for a triangle whose box is a few pixels of one block (few_pixels(t)): the
+  // triangle_impl() for a triangle whose box is a few pixels of one block (takes_pixel_path()): the
   // tile's hierarchical z, then few_pixels().
   template <class K>
   static void pixel_impl(Context& cx, const front::TriangleSetup& t) {
