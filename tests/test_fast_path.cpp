@@ -525,6 +525,66 @@ TEST(FastPath, FrameWithoutDepthMatchesReference) {
   }
 }
 
+// A right triangle with legs w and h px from (x, y), at depth z (rising to the right).
+void add_right_triangle(TestScene& sc, float x, float y, float w, float h, float z) {
+  for (const glm::vec4& p :
+       {glm::vec4(x, y, z, 1), glm::vec4(x + w, y, z + 0.1f, 1), glm::vec4(x, y + h, z, 1)}) {
+    sc.positions.push_back(p);
+    sc.colors.push_back({200, 100, 50, 255});
+  }
+}
+
+// A depth-only draw leaves a block that one triangle covers whole and wins as that triangle's
+// depth plane, and writes its samples only when something reads them: a later triangle of any
+// size that tests or partly covers the block, a colour draw, or the end of the tile. Large
+// triangles over small, tiny and thin ones, in every depth test, sample count and tile size, with
+// right triangles just holding an 8×8 block and just not (legs of 16 and 15 px): depth, image,
+// counters and hierarchical z as the reference's.
+TEST(FastPath, DepthPlanesOfWholeBlocksMatchReference) {
+  const int w = 157, h = 131;
+  TestScene sc;
+  const auto add = [&sc](const TestScene& more) {
+    sc.positions.insert(sc.positions.end(), more.positions.begin(), more.positions.end());
+    sc.colors.insert(sc.colors.end(), more.colors.begin(), more.colors.end());
+  };
+  // Interleaved so that every draw of render_draws() gets large and small triangles in turn.
+  for (std::uint64_t seed = 600; seed < 606; ++seed) {
+    add(make_scene(Shape::kLarge, w, h, 3, seed, true));
+    add(make_scene(Shape::kSmall, w, h, 40, seed, true));
+    add(make_scene(Shape::kTiny, w, h, 60, seed, true));
+    add(make_scene(Shape::kSliver, w, h, 8, seed, true));
+  }
+  for (float legs : {16.f, 15.f})
+    for (float z : {0.9f, 0.1f}) add_right_triangle(sc, 40, 24, legs, legs, z);
+  const mosaic::DepthTest tests[] = {mosaic::DepthTest::kLess, mosaic::DepthTest::kLessEqual,
+                                     mosaic::DepthTest::kGreater, mosaic::DepthTest::kGreaterEqual,
+                                     mosaic::DepthTest::kAlways};
+  for (auto test : tests) {
+    // Depth-only writes, a depth-only test without writes, a colour draw, depth-only again.
+    std::vector<mosaic::DrawState> states(4);
+    for (std::size_t i = 0; i < states.size(); ++i) {
+      states[i].depth_test = test;
+      states[i].color_write = i == 2;
+      states[i].depth_write = i != 1;
+    }
+    const bool reversed =
+        test == mosaic::DepthTest::kGreater || test == mosaic::DepthTest::kGreaterEqual;
+    const float cd = reversed ? 0.f : 1.f;
+    for (int samples : {1, 4, 16}) {
+      const MultiResult ref = render_draws(sc, w, h, samples, Isa::kReference, states, {true, true},
+                                           false, {10, 20, 30, 255}, cd);
+      for (Isa isa : simd_isas())
+        for (int tile : {0, 16})
+          expect_same_multi(ref,
+                            render_draws(sc, w, h, samples, isa, states, {true, true}, false,
+                                         {10, 20, 30, 255}, cd, nullptr, {2, tile, false}),
+                            "depth planes, test " + std::to_string(int(test)) + " " +
+                                std::to_string(samples) + "x tile " + std::to_string(tile) + " " +
+                                mosaic::to_string(isa));
+    }
+  }
+}
+
 // A grid of cell × cell px squares, two triangles each, over [x0, x0 + n·cell)², at depth z: a
 // surface of small triangles, none of which covers an 8×8 block, every sample covered once.
 void add_grid(TestScene& sc, double x0, int n, double cell, float z, mosaic::Rgba8 color) {

@@ -134,6 +134,19 @@ struct TileScratch {
   alignas(64) float zmax[kMaxBlocksPerTile];  ///< hierarchical z: farthest depth in the block
   /// Samples written into each block since its bounds were last made exact from its depths.
   alignas(64) std::uint32_t hiz_written[kMaxBlocksPerTile];
+  /// A depth-only draw's triangle that covers a whole block and passes hierarchical z there
+  /// leaves its depth plane here instead of writing the block's samples; the samples are
+  /// evaluated from it, with the same operations, when something reads them (the tile kernel's
+  /// take_plane()). Under heavy overdraw a block's samples are then evaluated once, not once per
+  /// triangle. `plane_pending[blk]` is 1 while block blk's samples are its plane's; every
+  /// tile ends with none pending, so the next starts clear.
+  struct DepthPlane {
+    float base, ddx, ddy;  ///< TriangleSetup::z
+    float x0, y0;          ///< TriangleSetup::x0, y0
+    float lo, hi;          ///< TriangleSetup::z_min, z_max
+  };
+  alignas(64) DepthPlane plane[kMaxBlocksPerTile];
+  alignas(64) std::uint8_t plane_pending[kMaxBlocksPerTile] = {};
   /// Pixels of each block inside a draw's clip rectangle and the image (see the tile kernel's
   /// clip_coverage()); kept here, not zeroed per tile, since most tiles never use it.
   alignas(64) std::uint64_t clipped[kMaxBlocksPerTile];

@@ -19,7 +19,9 @@
 // one call of the shader's batch function per batch (not per pixel), then blending per sample.
 // A triangle whose box is a few pixels of one block (setup shrinks a tiny triangle's box to its
 // covered samples) skips the walker: pixel_impl() makes the same tests, writes and counts in
-// scalar code.
+// scalar code. A depth-only draw leaves a block that one triangle covers and wins whole as that
+// triangle's depth plane (TileScratch::plane), whose samples are written when something reads
+// them: under overdraw, once instead of once per triangle.
 // The kernel a triangle gets is specialised on what its draw uses (raster/kernel_traits.hpp;
 // pick() chooses once per bin run): the depth test and write, the colour mode, MSAA or SSAA — a
 // depth-only draw shades nothing and touches no colour memory, and at one sample its kernel is
@@ -129,6 +131,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     BlockRect cover_blocks{}, valid_blocks{}, clipped_blocks{};
     PixelRect clipped_rect{};  ///< the rectangle (target pixels) sc.clipped was made for
     bool clipped_made = false;
+    int planes = 0;  ///< blocks whose depth plane is pending (TileScratch::plane_pending)
   };
 
   using TriangleFn = void (*)(Context&, const front::TriangleSetup&);
@@ -208,6 +211,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     // A shader draw's pixels take the block walker's batches.
     if constexpr (K::kColor == ColorMode::kGeneric || K::kColor == ColorMode::kDiscarding)
       return {&triangle_impl<K>, &triangle_impl<K>};
+    else if constexpr (K::kColor == ColorMode::kNone && K::kWrite)
+      return {&depth_only_walker<K>, &pixel_impl<K>};
     else
       return {&triangle_impl<K>, &pixel_impl<K>};
   }
@@ -221,8 +226,22 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     return kLaneBits;
   }
 
+  // The block walker of a depth-only draw that writes depth, for t. Only such draws meet pending
+  // planes (draw_run() takes them before any other draw). The walker with planes takes a block's
+  // plane before it touches the block and leaves a whole block it covers and wins as a plane: it
+  // draws a triangle that may cover whole blocks (may_cover_a_block()), and any in a tile with
+  // planes. The plain walker draws the rest, so that a tile of small triangles pays nothing for
+  // planes. (Each walker is a function of its own: the choice inside the plain one cost it
+  // registers.)
   template <class K>
-  static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
+  static void depth_only_walker(Context& cx, const front::TriangleSetup& t) {
+    if (may_cover_a_block(t) || cx.planes) return triangle_impl<K, true>(cx, t);
+    triangle_impl<K, false>(cx, t);
+  }
+
+  // The block walker.
+  template <class K, bool kPlanes = false>
+  [[gnu::noinline]] static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
     constexpr DepthTest kTest = K::kTest;
     constexpr bool kWrite = K::kWrite, kSsaa = K::kSsaa, kS1 = K::kOneSample;
     constexpr bool kColor = K::kColor != ColorMode::kNone;
@@ -379,6 +398,21 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         }
         const bool test = hz == 0;
         if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
+        if constexpr (kPlanes) {
+          // Every sample of the block covered and passing: the plane instead of the samples,
+          // with the counts and bounds the depth loop would give.
+          if (all_in && !test && inside == kWholeBlock) {
+            record_plane(cx, blk, t);
+            const std::uint64_t n = std::uint64_t{kBlockPixels} * static_cast<std::uint64_t>(S);
+            cx.st.samples_tested += n;
+            cx.st.samples_written += n;
+            keep_block_bounds<kTest>(cx, blk, S, n, n, blo, bhi, small_box);
+            continue;
+          }
+        }
+        if constexpr (kPlanes) {
+          if (cx.sc.plane_pending[blk]) take_plane(cx, blk);
+        }
 
         // 3–5. Coverage, depth test and writes. The coverage of a group of samples is built first,
         // every vector of the block without a branch; then only the (sample, vector) pairs holding
@@ -555,6 +589,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
     const bool test = hz == 0;
     if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
+    if constexpr (K::kColor == ColorMode::kNone && K::kWrite) {  // it may meet a plane
+      if (cx.planes && cx.sc.plane_pending[blk]) take_plane(cx, blk);
+    }
     std::uint64_t covered = 0, written = 0;
     if (t.bx1 - t.bx0 == 1 && t.by1 - t.by0 == 1) {  // the common box: one pixel
       pixel_samples<K>(cx, t, blk, px0, py0, t.bx0 - px0, t.by0 - py0, inside, test, covered,
@@ -789,6 +826,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
     const int S = f.samples;
+    take_planes(cx);
     if (f.hiz_min) store_hiz(cx);
     if (f.keep_color) resolve_color(cx);
     if (f.sample_color || f.sample_depth) {
@@ -880,7 +918,53 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     return r;
   }
 
-  // The exact bounds of the depths a block of the tile holds (a block with image pixels).
+  // Whether t may hold a whole block, the only case where the plane walker gains. Its box, W × H
+  // pixels, must hold one: (W - 8)(H - 8) >= 64, the square a right triangle with legs W and H
+  // holds. And each edge's value must rise across the triangle (to twice its area, at the
+  // opposite vertex) by at least its rise across a block, (|a| + |b|) · kBlockSpan.
+  static bool may_cover_a_block(const front::TriangleSetup& t) {
+    const int w = t.bx1 - t.bx0 - kBlockSize, h = t.by1 - t.by0 - kBlockSize;
+    if (w <= 0 || h <= 0 || w * h < kBlockPixels) return false;
+    // (x0, y0) is the snapped first vertex: whole 16.8 units.
+    const auto x = static_cast<std::int64_t>(t.x0 * kSubpixel);
+    const auto y = static_cast<std::int64_t>(t.y0 * kSubpixel);
+    const std::int64_t twice_area = std::max({t.edge[0](x, y), t.edge[1](x, y), t.edge[2](x, y)});
+    for (const front::EdgeFunction& e : t.edge)
+      if ((std::abs(e.a) + std::abs(e.b)) * kBlockSpan > twice_area) return false;
+    return true;
+  }
+
+  // Block blk's samples become triangle t's depth plane, evaluated later (take_plane()).
+  static void record_plane(Context& cx, int blk, const front::TriangleSetup& t) {
+    cx.sc.plane[blk] = {t.z.base, t.z.ddx, t.z.ddy, t.x0, t.y0, t.z_min, t.z_max};
+    cx.planes += 1 - cx.sc.plane_pending[blk];
+    cx.sc.plane_pending[blk] = 1;
+  }
+  // Writes the samples of every block whose plane is pending.
+  static void take_planes(Context& cx) {
+    for (int blk = 0; blk < cx.blocks && cx.planes; ++blk)
+      if (cx.sc.plane_pending[blk]) take_plane(cx, blk);
+  }
+
+  // Writes the samples of a block whose plane is pending, as triangle_impl()'s depth loop writes
+  // a covered and accepted block: the same sample positions and operations, so the same bits.
+  [[gnu::noinline]] static void take_plane(Context& cx, int blk) {
+    cx.sc.plane_pending[blk] = 0;
+    --cx.planes;
+    const TileScratch::DepthPlane& p = cx.sc.plane[blk];
+    const int S = cx.f.samples;
+    const F fx_blk(static_cast<float>(cx.tile.x0 + (blk % cx.side) * kBlockSize));
+    const F fy_row(static_cast<float>(cx.tile.y0 + (blk / cx.side) * kBlockSize));
+    const F x0(p.x0), y0(p.y0), zb(p.base), zdx(p.ddx), zdy(p.ddy), zlo(p.lo), zhi(p.hi);
+    float* d = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+    for (int k = 0; k < S * kVectors; ++k) {
+      const F fx = fx_blk + cx.sx[k], fy = fy_row + cx.sy[k];
+      Sh::clamp((zb + zdx * (fx - x0)) + zdy * (fy - y0), zlo, zhi).store_aligned(d + k * L);
+    }
+  }
+
+  // The exact bounds of the depths a block of the tile holds (a block with image pixels; no
+  // plane pending: the walkers take a block's plane before they write it, resolve_tile() all).
   static std::pair<float, float> exact_block_bounds(const Context& cx, int blk) {
     const int S = cx.f.samples;
     const float* d = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
@@ -1012,7 +1096,13 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     cx.ln.planes = run.planes;
     const bool mixed = run.draw == BinRun::kMixedDraws;
     DrawKernels kernels = mixed ? DrawKernels{} : pick(f, run.draw);
-    if (!mixed) clip_coverage(cx, run.draw);
+    if (!mixed) {
+      clip_coverage(cx, run.draw);
+      // Only depth-only draws that write depth meet pending planes. (A run of mixed draws, the
+      // painter's, writes no depth: it neither leaves nor meets one.)
+      const DrawState& ds = f.states[run.draw];
+      if (cx.planes && (ds.color_write || !ds.depth_write)) take_planes(cx);
+    }
     for (std::size_t k = 0; k < idx.size(); ++k) {
       // A bin's triangles lie far apart in the setup arrays (a tile takes a sparse subset),
       // so each is a cache miss: fetch the setup kPrefetchAhead triangles ahead while this one
@@ -1170,6 +1260,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   static constexpr int kPixelPathMax = 4;
   static constexpr int kBlockShift = std::countr_zero(static_cast<unsigned>(kBlockSize));
   static_assert(kBlockSize == 1 << kBlockShift);
+  static constexpr std::uint64_t kWholeBlock = ~std::uint64_t{0};  ///< every pixel of a block
   static constexpr std::int64_t kHalf = 128;  ///< half a pixel: the pixel centre
   static constexpr std::int64_t kBlockSpan = kBlockSize * kSubpixel;  ///< a block's width in 16.8
 };
