@@ -3,18 +3,22 @@
 //
 // The edge functions are checked against the independent oracle of reference_test_util.hpp and
 // against cases worked out by hand; the depth plane against a double-precision plane through the
-// snapped vertices.
+// snapped vertices. The block walker's per-row depth range (raster/hiz.hpp) against the plain one.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 
 #include "front/draw_area.hpp"
 #include "front/setup.hpp"
+#include "raster/hiz.hpp"
+#include "raster/tile.hpp"
 #include "reference_test_util.hpp"
+#include "scenes/rng.hpp"
 
 namespace mosaic {
 namespace {
@@ -308,6 +312,38 @@ TEST(FrontSetup, UnormConversionClampsAndRoundsHalfUp) {
   EXPECT_EQ(front::to_unorm8(-std::numeric_limits<float>::infinity()), 0);
   EXPECT_EQ(front::to_unorm8(std::numeric_limits<float>::infinity()), 255);
   EXPECT_EQ(front::to_unorm8(std::numeric_limits<float>::quiet_NaN()), 0);
+}
+
+// The block walker's depth range over an 8×8 block, made from per-triangle and per-row terms
+// (BlockDepthRows), is BlockDepthRange::over()'s bit for bit: planes of every sign and scale, and
+// blocks near, far from and on either side of the plane's anchor.
+TEST(FrontSetup, BlockDepthRowsEqualTheDepthRangeOfEachBlock) {
+  SplitMix64 rng{77};
+  const auto value = [&rng] {
+    const double scale[] = {0.0, 1e-7, 1e-3, 0.5, 3.0, 1e4};
+    return static_cast<float>(rng.uniform(-1, 1) * scale[rng.next() % std::size(scale)]);
+  };
+  std::size_t checked = 0, differ = 0;
+  for (int i = 0; i < 20000; ++i) {
+    front::TriangleSetup t;
+    t.z = {value(), value(), value()};
+    t.x0 = static_cast<float>(std::floor(rng.uniform(-100, 17000) * 256) / 256);
+    t.y0 = static_cast<float>(std::floor(rng.uniform(-100, 17000) * 256) / 256);
+    t.z_min = std::min(value(), value());
+    t.z_max = t.z_min + std::abs(value());
+    const raster::BlockDepthRows<raster::kBlockSize> rows(t);
+    const int py0 = 8 * static_cast<int>(rng.uniform(-16, 2100));
+    const auto row = raster::BlockDepthRows<raster::kBlockSize>::row(t, py0);
+    for (int k = 0; k < 4; ++k) {
+      const int px0 = 8 * static_cast<int>(rng.uniform(-16, 2100));
+      const auto [lo, hi] = rows.at(px0, row, t.z_min, t.z_max);
+      const auto [rlo, rhi] = raster::BlockDepthRange(t).over(px0, py0, raster::kBlockSize,
+                                                              raster::kBlockSize, t.z_min, t.z_max);
+      differ += std::memcmp(&lo, &rlo, sizeof lo) != 0 || std::memcmp(&hi, &rhi, sizeof hi) != 0;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(differ, 0u) << "of " << checked;
 }
 
 }  // namespace

@@ -53,6 +53,46 @@ struct BlockDepthRange {
   }
 };
 
+/// BlockDepthRange::over() for square blocks of kSize pixels, with the same operations in the
+/// same order, so the same values: the terms that depend on the triangle only are made once, and
+/// those of a row of blocks once per row (the block walker calls it for every block it visits).
+template <int kSize>
+class BlockDepthRows {
+ public:
+  BlockDepthRows() = default;  ///< nothing made: assign before use
+  explicit BlockDepthRows(const front::TriangleSetup& t)
+      : base_(t.z.base),
+        ddx_(t.z.ddx),
+        x0_(t.x0),
+        abs_base_(std::abs(base_)),
+        abs_ddx_(std::abs(ddx_)),
+        ex_lo_(std::min(0.0, ddx_ * kSize) + std::min(0.0, double{t.z.ddy} * kSize)),
+        ex_hi_(std::max(0.0, ddx_ * kSize) + std::max(0.0, double{t.z.ddy} * kSize)) {}
+  /// The y terms of over() for the blocks whose top row is py0.
+  struct Row {
+    double corner, mag;
+  };
+  static Row row(const front::TriangleSetup& t, int py0) {
+    const double ddy = t.z.ddy, dy = py0 - double{t.y0};
+    return {ddy * dy, std::abs(ddy) * std::max(std::abs(dy), std::abs(dy + kSize))};
+  }
+  /// over(px0, py0, kSize, kSize, lo, hi) for the block at px0 of row `row`.
+  [[gnu::always_inline]] std::pair<float, float> at(int px0, const Row& row, float lo,
+                                                    float hi) const {
+    const double dx = px0 - x0_;
+    const double corner = base_ + ddx_ * dx + row.corner;
+    const double mag =
+        abs_base_ + abs_ddx_ * std::max(std::abs(dx), std::abs(dx + kSize)) + row.mag;
+    const double margin = mag * BlockDepthRange::kMarginScale;
+    const float zl = static_cast<float>(corner + ex_lo_ - margin);
+    const float zh = static_cast<float>(corner + ex_hi_ + margin);
+    return {std::clamp(zl, lo, hi), std::clamp(zh, lo, hi)};
+  }
+
+ private:
+  double base_ = 0, ddx_ = 0, x0_ = 0, abs_base_ = 0, abs_ddx_ = 0, ex_lo_ = 0, ex_hi_ = 0;
+};
+
 /// True when no depth in [lo, hi] can pass `test` against any stored depth in [zmin, zmax]. A
 /// NaN anywhere makes every comparison false, so the answer is "not hidden" (conservative).
 inline bool hiz_hidden(DepthTest test, float lo, float hi, float zmin, float zmax) {

@@ -335,9 +335,14 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       return Sh::clamp((zb + zdx * (fx - x0)) + zdy * (fy - y0), zlo, zhi);
     };
     [[maybe_unused]] const I flat_color(Sh::bits_of(t.color));
+    // A larger box's depth range per block (a small one takes rlo, rhi for every block).
+    BlockDepthRows<kBlockSize> block_depth;
+    if (!small_box) block_depth = BlockDepthRows<kBlockSize>(t);
 
     for (int by = byb; by < bye; ++by) {
       const int py0 = tile.y0 + by * kBlockSize;
+      typename BlockDepthRows<kBlockSize>::Row depth_row{};
+      if (!small_box) depth_row = BlockDepthRows<kBlockSize>::row(t, py0);
       // The blocks of this row that no edge rejects: each edge's largest value over a block is
       // linear in the block's x, so each edge bounds bx from one side.
       int row_b = bxb, row_e = bxe;
@@ -388,9 +393,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         const int px0 = tile.x0 + bx * kBlockSize;
 
         // 2. Hierarchical z, with the triangle's depth range over this block (its box's, if small).
-        const auto [blo, bhi] =
-            small_box ? std::pair<float, float>{rlo, rhi}
-                      : BlockDepthRange(t).over(px0, py0, kBlockSize, kBlockSize, tlo, thi);
+        const auto [blo, bhi] = small_box ? std::pair<float, float>{rlo, rhi}
+                                          : block_depth.at(px0, depth_row, tlo, thi);
         const int hz = hiz_classify<kTest>(blo, bhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
         if (hz < 0) {
           ++cx.st.blocks_hiz_rejected;
