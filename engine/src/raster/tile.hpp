@@ -141,9 +141,9 @@ struct TileScratch {
   /// triangle. `plane_pending[blk]` is 1 while block blk's samples are its plane's; every
   /// tile ends with none pending, so the next starts clear.
   struct DepthPlane {
-    float base, ddx, ddy;  ///< TriangleSetup::z
-    float x0, y0;          ///< TriangleSetup::x0, y0
-    float lo, hi;          ///< TriangleSetup::z_min, z_max
+    front::Plane z;  ///< TriangleSetup::z
+    float x0, y0;    ///< TriangleSetup::x0, y0
+    float lo, hi;    ///< TriangleSetup::z_min, z_max
   };
   alignas(64) DepthPlane plane[kMaxBlocksPerTile];
   alignas(64) std::uint8_t plane_pending[kMaxBlocksPerTile] = {};

@@ -226,6 +226,18 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     return kLaneBits;
   }
 
+  /// The reference's depth plane in lanes, at sample positions (fx, fy) in pixels:
+  /// (base + ddx * (x - x0)) + ddy * (y - y0), clamped to [lo, hi]. The walkers and take_plane()
+  /// evaluate depth only through it, so a plane written late has the bits of one written at once.
+  struct DepthLanes {
+    F x0, y0, base, ddx, ddy, lo, hi;
+    DepthLanes(const front::Plane& z, float px, float py, float zlo, float zhi)
+        : x0(px), y0(py), base(z.base), ddx(z.ddx), ddy(z.ddy), lo(zlo), hi(zhi) {}
+    [[gnu::always_inline]] F at(F fx, F fy) const {
+      return Sh::clamp((base + ddx * (fx - x0)) + ddy * (fy - y0), lo, hi);
+    }
+  };
+
   // The block walker of a depth-only draw that writes depth, for t. Only such draws meet pending
   // planes (draw_run() takes them before any other draw). The walker with planes takes a block's
   // plane before it touches the block and leaves a whole block it covers and wins as a plane: it
@@ -328,12 +340,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     D doff[3][kDVectors];
     bool doff_built = false;
     const float tlo = t.z_min, thi = t.z_max;
-    const F x0(t.x0), y0(t.y0), zb(t.z.base), zdx(t.z.ddx), zdy(t.z.ddy), zlo(tlo), zhi(thi);
-    // The depth plane of the reference at sample positions (fx, fy) in pixels:
-    // (base + ddx * (x - x0)) + ddy * (y - y0), clamped.
-    const auto depth_at = [x0, y0, zb, zdx, zdy, zlo, zhi](F fx, F fy) {
-      return Sh::clamp((zb + zdx * (fx - x0)) + zdy * (fy - y0), zlo, zhi);
-    };
+    const DepthLanes depth(t.z, t.x0, t.y0, tlo, thi);
     [[maybe_unused]] const I flat_color(Sh::bits_of(t.color));
     // A larger box's depth range per block (a small one takes rlo, rhi for every block).
     BlockDepthRows<kBlockSize> block_depth;
@@ -476,7 +483,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             const std::uint32_t lanes = lanes_of(cov, k);
             // Sample positions in pixels (exact in float), then their depth.
             const F fx = fx_blk + cx.sx[k], fy = fy_row + cx.sy[k];
-            const F z = depth_at(fx, fy);
+            const F z = depth.at(fx, fy);
             float* dp = dblk + k * L;
             std::uint32_t pass = lanes;
             if constexpr (kTest != DepthTest::kAlways || kWrite) {
@@ -527,7 +534,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             for (std::uint64_t vs = kWrite ? vectors_with_lanes(passed[s]) : 0; vs; vs &= vs - 1) {
               const std::size_t k = static_cast<std::size_t>(s * kVectors + std::countr_zero(vs));
               float* dp = dblk + k * L;
-              const F z = depth_at(fx_blk + cx.sx[k], fy_row + cx.sy[k]);
+              const F z = depth.at(fx_blk + cx.sx[k], fy_row + cx.sy[k]);
               xsimd::select(M::floats(lanes_of(passed, k)), z, F::load_aligned(dp))
                   .store_aligned(dp);
             }
@@ -940,7 +947,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
 
   // Block blk's samples become triangle t's depth plane, evaluated later (take_plane()).
   static void record_plane(Context& cx, int blk, const front::TriangleSetup& t) {
-    cx.sc.plane[blk] = {t.z.base, t.z.ddx, t.z.ddy, t.x0, t.y0, t.z_min, t.z_max};
+    cx.sc.plane[blk] = {t.z, t.x0, t.y0, t.z_min, t.z_max};
     cx.planes += 1 - cx.sc.plane_pending[blk];
     cx.sc.plane_pending[blk] = 1;
   }
@@ -959,12 +966,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     const int S = cx.f.samples;
     const F fx_blk(static_cast<float>(cx.tile.x0 + (blk % cx.side) * kBlockSize));
     const F fy_row(static_cast<float>(cx.tile.y0 + (blk / cx.side) * kBlockSize));
-    const F x0(p.x0), y0(p.y0), zb(p.base), zdx(p.ddx), zdy(p.ddy), zlo(p.lo), zhi(p.hi);
+    const DepthLanes depth(p.z, p.x0, p.y0, p.lo, p.hi);
     float* d = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
-    for (int k = 0; k < S * kVectors; ++k) {
-      const F fx = fx_blk + cx.sx[k], fy = fy_row + cx.sy[k];
-      Sh::clamp((zb + zdx * (fx - x0)) + zdy * (fy - y0), zlo, zhi).store_aligned(d + k * L);
-    }
+    for (int k = 0; k < S * kVectors; ++k)
+      depth.at(fx_blk + cx.sx[k], fy_row + cx.sy[k]).store_aligned(d + k * L);
   }
 
   // The exact bounds of the depths a block of the tile holds (a block with image pixels; no
