@@ -211,7 +211,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     // A shader draw's pixels take the block walker's batches.
     if constexpr (K::kColor == ColorMode::kGeneric || K::kColor == ColorMode::kDiscarding)
       return {&triangle_impl<K>, &triangle_impl<K>};
-    else if constexpr (K::kColor == ColorMode::kNone && K::kWrite)
+    else if constexpr (kUsesPlanes<K>)
       return {&depth_only_walker<K>, &pixel_impl<K>};
     else
       return {&triangle_impl<K>, &pixel_impl<K>};
@@ -225,6 +225,13 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     if constexpr (kTest == DepthTest::kGreaterEqual) return M::bits(z >= stored);
     return kLaneBits;
   }
+
+  /// Whether a kernel's draws leave and meet depth planes (TileScratch::plane): depth-only draws
+  /// that write depth. draw_run() takes every pending plane before a draw that does not
+  /// (uses_planes(), the same test on the draw's state, as pick() maps it to traits).
+  template <class K>
+  static constexpr bool kUsesPlanes = K::kColor == ColorMode::kNone&& K::kWrite;
+  static bool uses_planes(const DrawState& ds) { return !ds.color_write && ds.depth_write; }
 
   /// The reference's depth plane in lanes, at sample positions (fx, fy) in pixels:
   /// (base + ddx * (x - x0)) + ddy * (y - y0), clamped to [lo, hi]. The walkers and take_plane()
@@ -247,7 +254,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   // registers.)
   template <class K>
   static void depth_only_walker(Context& cx, const front::TriangleSetup& t) {
-    if (may_cover_a_block(t) || cx.planes) return triangle_impl<K, true>(cx, t);
+    if (cx.planes || may_cover_a_block(t)) return triangle_impl<K, true>(cx, t);
     triangle_impl<K, false>(cx, t);
   }
 
@@ -420,8 +427,6 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             keep_block_bounds<kTest>(cx, blk, S, n, n, blo, bhi, small_box);
             continue;
           }
-        }
-        if constexpr (kPlanes) {
           if (cx.sc.plane_pending[blk]) take_plane(cx, blk);
         }
 
@@ -600,7 +605,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
     const bool test = hz == 0;
     if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
-    if constexpr (K::kColor == ColorMode::kNone && K::kWrite) {  // it may meet a plane
+    if constexpr (kUsesPlanes<K>) {
       if (cx.planes && cx.sc.plane_pending[blk]) take_plane(cx, blk);
     }
     std::uint64_t covered = 0, written = 0;
@@ -1107,10 +1112,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     DrawKernels kernels = mixed ? DrawKernels{} : pick(f, run.draw);
     if (!mixed) {
       clip_coverage(cx, run.draw);
-      // Only depth-only draws that write depth meet pending planes. (A run of mixed draws, the
-      // painter's, writes no depth: it neither leaves nor meets one.)
-      const DrawState& ds = f.states[run.draw];
-      if (cx.planes && (ds.color_write || !ds.depth_write)) take_planes(cx);
+      // Only draws that use planes meet pending ones. (A run of mixed draws, the painter's,
+      // writes no depth: it neither leaves nor meets one.)
+      if (cx.planes && !uses_planes(f.states[run.draw])) take_planes(cx);
     }
     for (std::size_t k = 0; k < idx.size(); ++k) {
       // A bin's triangles lie far apart in the setup arrays (a tile takes a sparse subset),
