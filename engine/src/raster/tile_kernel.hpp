@@ -262,7 +262,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   template <class K, bool kPlanes = false>
   [[gnu::noinline]] static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
     constexpr DepthTest kTest = K::kTest;
-    constexpr bool kWrite = K::kWrite, kSsaa = K::kSsaa, kS1 = K::kOneSample;
+    constexpr bool kWrite = K::kWrite, kS1 = K::kOneSample;
     constexpr bool kColor = K::kColor != ColorMode::kNone;
     constexpr bool kFlat = K::kColor == ColorMode::kFlat;
     // A shader that discards tests depth first and writes it after shading, for what it keeps.
@@ -490,14 +490,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             const F fx = fx_blk + cx.sx[k], fy = fy_row + cx.sy[k];
             const F z = depth.at(fx, fy);
             float* dp = dblk + k * L;
-            std::uint32_t pass = lanes;
-            if constexpr (kTest != DepthTest::kAlways || kWrite) {
-              const F stored = F::load_aligned(dp);
-              if constexpr (kTest != DepthTest::kAlways) pass &= passes<kTest>(z, stored) | keep;
-              // (A lane outside `pass` stores back what it loaded.)
-              if constexpr (kWrite && !kLateZ)
-                xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
-            }
+            const std::uint32_t pass = test_and_write_depth<K>(dp, z, lanes, keep);
             written += static_cast<std::uint64_t>(std::popcount(pass));
             // Flat colour stores under the mask whatever it is; a shaded colour is worth a branch.
             if constexpr (kColor && !kFlat) {
@@ -506,23 +499,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             if constexpr (kGeneric) {
               passed[k / kVectors] |= std::uint64_t{pass} << ((k % kVectors) * L);
             } else if constexpr (kColor) {  // a depth-only draw shades nothing, keeps colour
-              I color;
-              if constexpr (kFlat) {
-                color = flat_color;
-              } else if constexpr (kSsaa) {
-                color = Sh::interpolate(t, color_planes.data(), fx, fy);
-              } else {
-                const std::size_t v = k % kVectors;
-                if (!(shaded & (1u << v))) {
-                  pixel_color[v] =
-                      Sh::interpolate(t, color_planes.data(), fx_blk + cx.ln.colf[v] + F(0.5f),
-                                      fy_row + cx.ln.rowf[v] + F(0.5f));
-                  shaded |= 1u << v;
-                }
-                color = pixel_color[v];
-              }
-              std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + k * L);
-              xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
+              write_color<K>(cx, t, color_planes.data(), flat_color, fx, fy, fx_blk, fy_row, k,
+                             pass, cblk, pixel_color, shaded);
             }
           }
         }
@@ -552,6 +530,51 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           keep_block_bounds<kTest>(cx, blk, S, covered, written, blo, bhi, small_box);
       }
     }
+  }
+
+  // The depth test and write of block vector dp (the lanes in `lanes` covered, `keep` all lanes
+  // if hierarchical z accepted the block): the lanes that pass. A lane that fails stores back
+  // what it loaded; a shader that discards writes depth after shading (triangle_impl()).
+  template <class K>
+  [[gnu::always_inline]] static std::uint32_t test_and_write_depth(float* dp, F z,
+                                                                   std::uint32_t lanes,
+                                                                   std::uint32_t keep) {
+    std::uint32_t pass = lanes;
+    if constexpr (K::kTest != DepthTest::kAlways || K::kWrite) {
+      const F stored = F::load_aligned(dp);
+      if constexpr (K::kTest != DepthTest::kAlways) pass &= passes<K::kTest>(z, stored) | keep;
+      if constexpr (K::kWrite && K::kColor != ColorMode::kDiscarding)
+        xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
+    }
+    return pass;
+  }
+
+  // The colour of block vector k where `pass`: the flat colour, or the interpolated one at the
+  // samples (SSAA, fx, fy) or at the pixel centres, shaded once per pixel vector of the block
+  // (pixel_color, `shaded` bit v once vector v's is made).
+  template <class K>
+  [[gnu::always_inline]] static void write_color(const Context& cx, const front::TriangleSetup& t,
+                                                 const front::Plane* color_planes, I flat_color,
+                                                 F fx, F fy, F fx_blk, F fy_row, std::size_t k,
+                                                 std::uint32_t pass, std::uint32_t* cblk,
+                                                 I (&pixel_color)[kVectors],
+                                                 std::uint32_t& shaded) {
+    I color;
+    if constexpr (K::kColor == ColorMode::kFlat) {
+      color = flat_color;
+    } else if constexpr (K::kSsaa) {
+      color = Sh::interpolate(t, color_planes, fx, fy);
+    } else {
+      const std::size_t v = k % kVectors;
+      if (!(shaded & (1u << v))) {
+        pixel_color[v] = Sh::interpolate(t, color_planes, fx_blk + cx.ln.colf[v] + F(0.5f),
+                                         fy_row + cx.ln.rowf[v] + F(0.5f));
+        shaded |= 1u << v;
+      }
+      color = pixel_color[v];
+    }
+    std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + k * L);
+    xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
   }
 
   // triangle_impl() for a triangle whose box is a few pixels of one block (takes_pixel_path()): the
