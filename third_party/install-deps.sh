@@ -23,6 +23,8 @@ packages=(
   clang-14              # .ci/fuzz.sh: libFuzzer needs clang (GCC has no -fsanitize=fuzzer)
   clang-format-14       # .ci/format.sh: the sources follow .clang-format
   libclang-rt-14-dev    # clang's runtime libraries: libFuzzer, ASan and UBSan for clang-14
+  valgrind              # bench/instructions: instructions per stage (callgrind)
+  python3               # bench/instructions/per_stage.py, bench/obj/grid_obj.py
 )
 
 missing=()
