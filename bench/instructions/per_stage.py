@@ -98,10 +98,17 @@ def inline_chains(binary, addrs):
     return chains
 
 
+# Helpers that several stages call (the clamp of depth and colour alike): an instruction in one
+# goes to the stage of the function that called it.
+SHARED_HELPERS = re.compile(r"ShadeSimd<[^>]*>::clamp\(")
+
+
 def kernel_stage(chain):
     if any(PIXEL_PATH.search(f) for f in chain):
         return "few-pixel path"
     for fn in chain:
+        if SHARED_HELPERS.search(fn):
+            continue
         for stage, pattern in KERNEL_STAGES:
             if pattern.search(fn):
                 return stage
