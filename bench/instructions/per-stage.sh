@@ -5,7 +5,7 @@
 # (default avx2: valgrind cannot run AVX-512). Gives: the table of per_stage.py on stdout.
 # Builds the profile preset (Release flags with -g; the CLI only, in build/profile) and renders
 # the frame once on one thread under callgrind: about a minute for 100k small triangles.
-# Instruction counts repeat exactly from run to run, so two versions of a kernel compare here
+# Instruction counts repeat to within 0.05 % from run to run, so two versions of a kernel compare here
 # where wall-clock times on a shared machine do not.
 set -eu
 

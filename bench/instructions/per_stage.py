@@ -17,7 +17,8 @@ import re
 import subprocess
 import sys
 
-# Stages of a frame: callgrind's inclusive cost of the first function whose name matches.
+# Stages of a frame: the inclusive cost of the function whose name matches (the largest, where
+# callgrind lists it under several source files).
 FRAME_STAGES = [
     ("frame (Renderer::render)", r"^mosaic::Renderer::render\("),
     ("vertex stage", r"FrontEndSimd<[^>]*>::project_vertices\("),
@@ -29,7 +30,7 @@ FRAME_STAGES = [
 
 # Stages inside the tile kernel, by the functions of an instruction's inline chain. A chain
 # through the few-pixel path is that path's; otherwise the innermost function that names a
-# stage gives it.
+# stage gives it, and a chain that names none is the walk.
 PIXEL_PATH = re.compile(r"::(pixel_impl|few_pixels|pixel_samples)<")
 KERNEL_STAGES = [
     ("coverage", re.compile(r"::(coverage32|coverage_f64|build_doff|vectors_with_lanes|lanes_of)\(")),
@@ -38,8 +39,10 @@ KERNEL_STAGES = [
     ("hierarchical z", re.compile(
         r"(hiz_classify|BlockDepthRange|BlockDepthRows|keep_block_bounds|update_block_bounds|"
         r"exact_block_bounds|refresh_tile_z|HizSimd|store_hiz)")),
-    ("walk", re.compile(r"::(triangle_impl<|depth_only_walker<|draw_triangle\(|draw_run\(|pick\()")),
 ]
+# Helpers that several stages call (the clamp of depth and colour alike): an instruction in one
+# goes to the stage of the function that called it.
+SHARED_HELPERS = re.compile(r"ShadeSimd<[^>]*>::clamp\(")
 KERNEL_FUNCTIONS = re.compile(r"TileKernelImpl<|ShadeSimd<")
 # The functions that draw triangles in a tile (not its clear or resolve), whose instructions the
 # split above divides.
@@ -96,11 +99,6 @@ def inline_chains(binary, addrs):
         else:
             expect_name = True  # the file:line of the name above
     return chains
-
-
-# Helpers that several stages call (the clamp of depth and colour alike): an instruction in one
-# goes to the stage of the function that called it.
-SHARED_HELPERS = re.compile(r"ShadeSimd<[^>]*>::clamp\(")
 
 
 def kernel_stage(chain):
