@@ -1,8 +1,8 @@
 #!/bin/sh
 # bench/instructions/per-stage.sh — where a frame's instructions go: per triangle, per stage.
 #
-# Takes: a scene and `mosaic render` options (default: random-small --msaa 4); environment ISA
-# (default avx2: valgrind cannot run AVX-512). Gives: the table of per_stage.py on stdout.
+# Takes: a scene and `mosaic render` options (default: random-small --msaa 4); environment ISA,
+# a `mosaic render --isa` value (default avx2; sse4.1 also runs: valgrind cannot run AVX-512). Gives: the table of per_stage.py on stdout.
 # Builds the profile preset (Release flags with -g; the CLI only, in build/profile) and renders
 # the frame once on one thread under callgrind: about a minute for 100k small triangles.
 # Instruction counts repeat to within 0.05 % from run to run, so two versions of a kernel compare here
@@ -24,8 +24,13 @@ bin="$root/build/profile/engine/mosaic"
 [ $# -gt 0 ] || set -- random-small --msaa 4
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-valgrind --tool=callgrind --dump-instr=yes --callgrind-out-file="$work/callgrind.out" \
+if ! valgrind --tool=callgrind --dump-instr=yes --callgrind-out-file="$work/callgrind.out" \
   "$bin" render "$@" --isa "${ISA:-avx2}" --threads 1 --no-out --stats \
-  2>"$work/valgrind.log" | tail -n 1 >"$work/stats.json"
+  >"$work/render.out" 2>"$work/valgrind.log"; then
+  echo "per-stage.sh: mosaic render $* --isa ${ISA:-avx2} failed:" >&2
+  grep -v '^==' "$work/valgrind.log" >&2  # the CLI's own messages, without valgrind's
+  exit 1
+fi
 echo "mosaic render $* --isa ${ISA:-avx2} --threads 1 under callgrind:"
-python3 "$root/bench/instructions/per_stage.py" "$work/callgrind.out" "$bin" "$(cat "$work/stats.json")"
+python3 "$root/bench/instructions/per_stage.py" "$work/callgrind.out" "$bin" \
+  "$(tail -n 1 "$work/render.out")"
