@@ -130,6 +130,8 @@ def main():
     path, binary, stats_line = sys.argv[1:]
     stats = json.loads(stats_line)
     triangles, pairs = stats["triangles_in"], stats["triangles_binned"]
+    if triangles == 0:
+        sys.exit("per_stage.py: the frame has no triangles to divide by")
     incl = inclusive_costs(path)
 
     def inclusive(pattern):
