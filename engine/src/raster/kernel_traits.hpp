@@ -30,6 +30,10 @@ struct KernelTraits {
   /// per-sample loops. One sample is at the pixel centre.
   static constexpr int kSamples = Samples;
   static constexpr bool kOneSample = Samples == 1;
+  /// Coloured by a shader or blending, in batches after the depth test.
+  static constexpr bool kGeneric = Color == ColorMode::kGeneric || Color == ColorMode::kDiscarding;
+  /// Depth written after shading, for the samples the shader keeps.
+  static constexpr bool kLateZ = Color == ColorMode::kDiscarding;
 };
 
 }  // namespace mosaic::raster

@@ -209,7 +209,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   template <class K>
   static Kernel kernel() {
     // A shader draw's pixels take the block walker's batches.
-    if constexpr (K::kColor == ColorMode::kGeneric || K::kColor == ColorMode::kDiscarding)
+    if constexpr (K::kGeneric)
       return {&triangle_impl<K>, &triangle_impl<K>};
     else if constexpr (kUsesPlanes<K>)
       return {&depth_only_walker<K>, &pixel_impl<K>};
@@ -230,7 +230,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   /// that write depth. draw_run() takes every pending plane before a draw that does not
   /// (uses_planes(), the same test on the draw's state, as pick() maps it to traits).
   template <class K>
-  static constexpr bool kUsesPlanes = K::kColor == ColorMode::kNone&& K::kWrite;
+  static constexpr bool kUsesPlanes = (K::kColor == ColorMode::kNone) && K::kWrite;
   static bool uses_planes(const DrawState& ds) { return !ds.color_write && ds.depth_write; }
 
   /// The reference's depth plane in lanes, at sample positions (fx, fy) in pixels:
@@ -266,8 +266,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     constexpr bool kColor = K::kColor != ColorMode::kNone;
     constexpr bool kFlat = K::kColor == ColorMode::kFlat;
     // A shader that discards tests depth first and writes it after shading, for what it keeps.
-    constexpr bool kLateZ = K::kColor == ColorMode::kDiscarding;
-    constexpr bool kGeneric = K::kColor == ColorMode::kGeneric || kLateZ;
+    constexpr bool kLateZ = K::kLateZ, kGeneric = K::kGeneric;
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
     const int S = K::kSamples ? K::kSamples : f.samples;
@@ -543,7 +542,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     if constexpr (K::kTest != DepthTest::kAlways || K::kWrite) {
       const F stored = F::load_aligned(dp);
       if constexpr (K::kTest != DepthTest::kAlways) pass &= passes<K::kTest>(z, stored) | keep;
-      if constexpr (K::kWrite && K::kColor != ColorMode::kDiscarding)
+      if constexpr (K::kWrite && !K::kLateZ)
         xsimd::select(M::floats(pass), z, stored).store_aligned(dp);
     }
     return pass;
