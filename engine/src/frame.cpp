@@ -606,10 +606,11 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, tile_order.size(), 1),
         tile_edges.task([&](const tbb::blocked_range<std::size_t>& r) {
-          const std::unique_ptr<Worker>& worker =
-              workers[static_cast<std::size_t>(tbb::this_task_arena::current_thread_index())];
-          raster::TileScratch& sc = worker->scratch;
-          std::vector<raster::BinRun>& bin = worker->runs;
+          Worker& worker =
+              *workers[static_cast<std::size_t>(tbb::this_task_arena::current_thread_index())];
+          const parallel::SlotHold hold(&worker);
+          raster::TileScratch& sc = worker.scratch;
+          std::vector<raster::BinRun>& bin = worker.runs;
           raster::TileStats& ts = tile_stats.local();
           for (std::size_t k = r.begin(); k != r.end(); ++k) {
             const int t = tile_order[k].second;

@@ -8,6 +8,10 @@
 //   StageEdges edges;
 //   tbb::parallel_for(0, n, edges.task(body));  // each task sees what its spawner wrote
 //   edges.join();                               // and the caller sees what every task wrote
+//
+// SlotHold states a third edge, for state kept per arena slot (indexed by
+// tbb::this_task_arena::current_thread_index()): oneTBB may hand a slot to another thread in the
+// middle of a stage, and the new holder sees what the last one wrote to the slot's state.
 #pragma once
 
 #if defined(__SANITIZE_THREAD__)
@@ -38,6 +42,29 @@ inline constexpr bool kTsan = true;
 inline constexpr bool kTsan = false;
 #endif
 
+namespace tsan {
+inline void release([[maybe_unused]] const void* sync) {
+#if defined(MOSAIC_TSAN)
+  __tsan_release(const_cast<void*>(sync));
+#endif
+}
+inline void acquire([[maybe_unused]] const void* sync) {
+#if defined(MOSAIC_TSAN)
+  __tsan_acquire(const_cast<void*>(sync));
+#endif
+}
+inline void ignore_begin() {
+#if defined(MOSAIC_TSAN)
+  __tsan_ignore_thread_begin();
+#endif
+}
+inline void ignore_end() {
+#if defined(MOSAIC_TSAN)
+  __tsan_ignore_thread_end();
+#endif
+}
+}  // namespace tsan
+
 class StageEdges {
  public:
   /// `body` as a task. In TSan builds each copy oneTBB makes of it (one per task, in the thread
@@ -54,7 +81,7 @@ class StageEdges {
     }
   }
   /// In the caller, after the stage returned: every task happens before what follows.
-  void join() { acquire(&join_); }
+  void join() { tsan::acquire(&join_); }
 
  private:
   template <class Body>
@@ -63,23 +90,23 @@ class StageEdges {
     // The members are written between ignore_begin() (in the first one's initialiser) and
     // ignore_end().
     Task(StageEdges& edges, Body body)
-        : edges_((acquire(this), ignore_begin(), &edges)), body_(std::move(body)) {
-      ignore_end();
-      release(this);
+        : edges_((tsan::acquire(this), tsan::ignore_begin(), &edges)), body_(std::move(body)) {
+      tsan::ignore_end();
+      tsan::release(this);
     }
     Task(const Task& other)
-        : edges_((acquire(this), acquire(&other), ignore_begin(), other.edges_)),
+        : edges_((tsan::acquire(this), tsan::acquire(&other), tsan::ignore_begin(), other.edges_)),
           body_(other.body_) {
-      ignore_end();
-      release(this);
+      tsan::ignore_end();
+      tsan::release(this);
     }
     Task& operator=(const Task&) = delete;
     template <class... Args>
     void operator()(Args&&... args) const {
-      acquire(this);
+      tsan::acquire(this);
       body_(std::forward<Args>(args)...);
-      release(&edges_->join_);
-      release(this);  // oneTBB reuses a finished task's memory for the next copy
+      tsan::release(&edges_->join_);
+      tsan::release(this);  // oneTBB reuses a finished task's memory for the next copy
     }
 
    private:
@@ -87,29 +114,35 @@ class StageEdges {
     Body body_;
   };
 
-  static void release([[maybe_unused]] const void* sync) {
-#if defined(MOSAIC_TSAN)
-    __tsan_release(const_cast<void*>(sync));
-#endif
-  }
-  static void ignore_begin() {
-#if defined(MOSAIC_TSAN)
-    __tsan_ignore_thread_begin();
-#endif
-  }
-  static void ignore_end() {
-#if defined(MOSAIC_TSAN)
-    __tsan_ignore_thread_end();
-#endif
-  }
-  static void acquire([[maybe_unused]] const void* sync) {
-#if defined(MOSAIC_TSAN)
-    __tsan_acquire(const_cast<void*>(sync));
-#endif
-  }
   // Tasks release here and only the caller acquires, so that no task is ordered after another
   // through it: a race between two tasks of one stage stays visible.
   char join_ = 0;
+};
+
+/// Held by a task for as long as it uses its arena slot's state. oneTBB hands a slot from one
+/// thread to another (synchronised inside libtbb) only between two tasks, so in TSan builds the
+/// holder acquires the state at the start and releases it at the end. It orders the tasks of one
+/// slot only: a race between tasks on two slots stays visible.
+class SlotHold {
+ public:
+  explicit SlotHold([[maybe_unused]] const void* state) {
+#if defined(MOSAIC_TSAN)
+    state_ = state;
+    tsan::acquire(state_);
+#endif
+  }
+  ~SlotHold() {
+#if defined(MOSAIC_TSAN)
+    tsan::release(state_);
+#endif
+  }
+  SlotHold(const SlotHold&) = delete;
+  SlotHold& operator=(const SlotHold&) = delete;
+
+ private:
+#if defined(MOSAIC_TSAN)
+  const void* state_;
+#endif
 };
 
 }  // namespace mosaic::parallel
