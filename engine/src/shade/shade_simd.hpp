@@ -51,7 +51,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
   /// the batch keeps its overflow for the next call.
   struct ShadeQueue {
     static constexpr int kRow = 2 * kShaderBatch;
-    alignas(64) float x[kRow], y[kRow];  ///< each entry's shading position
+    alignas(64) float x[kRow]{}, y[kRow]{};  ///< each entry's shading position
     alignas(64) float varying[kMaxVaryings][kRow];
     alignas(64) float ddx[kMaxVaryings][kRow], ddy[kMaxVaryings][kRow];
     /// Each entry's first colour sample, as an index into color_base, and the samples it writes
@@ -197,26 +197,35 @@ struct ShadeSimd : simd::LaneTypes<A> {
   }
 
   /// Appends the lanes set in `lanes` of one vector to the queue, packed: shading positions
-  /// (x, y) of triangle t, each entry's first colour sample and the samples it writes. The queue
-  /// must hold fewer than kShaderBatch entries before a block's batch is appended (its rows have
-  /// room for a whole batch more). `front` is nonzero if t faces the viewer.
-  static void append(ShadeQueue& q, const front::TriangleSetup& t, const front::Plane* planes,
-                     std::uint32_t lanes, F x, F y, I color, I samples, std::uint32_t front) {
+  /// (x, y), each entry's first colour sample and the samples it writes. Their varyings are
+  /// made afterwards (append_varyings()). The queue must hold fewer than kShaderBatch entries
+  /// before a block's batch is appended (its rows have room for a whole batch more). `front` is
+  /// nonzero if the triangle faces the viewer. The lanes past the packed ones are overwritten by
+  /// the next append, or zeroed by flush().
+  static void append(ShadeQueue& q, std::uint32_t lanes, F x, F y, I color, I samples,
+                     std::uint32_t front) {
     const int n = q.n;
-    // The positions are packed first and the varyings computed at the packed lanes: the same
-    // values, with one pack per entry instead of one per varying. The lanes past the packed
-    // ones are overwritten by the next append, or zeroed by flush().
-    const F xp = M::compress(x, lanes), yp = M::compress(y, lanes);
-    xp.store_unaligned(q.x + n);
-    yp.store_unaligned(q.y + n);
-    varyings(
-        t, planes, *q.shading, xp, yp, [&](float* row, F value) { value.store_unaligned(row + n); },
-        q.varying[0], q.ddx[0], q.ddy[0], ShadeQueue::kRow);
+    M::compress(x, lanes).store_unaligned(q.x + n);
+    M::compress(y, lanes).store_unaligned(q.y + n);
     M::compress(color, lanes).store_unaligned(q.color + n);
     M::compress(samples, lanes).store_unaligned(q.samples + n);
     const int c = std::popcount(lanes);
     q.front_facing |= (((std::uint64_t{1} << c) - 1) << n) & (front ? ~std::uint64_t{0} : 0);
     q.n = n + c;
+  }
+
+  /// The varyings of triangle t at the positions of queue entries from..q.n, computed a vector of
+  /// packed entries at a time: a batch's few entries take one vector, not one per row they came
+  /// from. Each lane's values depend on its own position only, so they equal those computed at
+  /// the entry's own lane. (The lanes past q.n hold earlier entries' positions or zeros: finite.)
+  static void append_varyings(ShadeQueue& q, const front::TriangleSetup& t,
+                              const front::Plane* planes, int from) {
+    for (int at = from; at < q.n; at += L) {
+      varyings(
+          t, planes, *q.shading, F::load_unaligned(q.x + at), F::load_unaligned(q.y + at),
+          [&](float* row, F value) { value.store_unaligned(row + at); }, q.varying[0], q.ddx[0],
+          q.ddy[0], ShadeQueue::kRow);
+    }
   }
 
   /// Shades the first kShaderBatch queued entries (or all, if fewer) in one call, the lanes past
@@ -339,8 +348,9 @@ struct ShadeSimd : simd::LaneTypes<A> {
   /// count is unrolled.
   static I samples_passed(const Lanes& ln, const std::uint64_t* passed, int S, int v) {
     const auto sample = [&](int k) {
+      // The lane's bit of the word is 0 or lane_bit > 0: min() with 1 makes it 0 or 1.
       const I word(static_cast<std::int32_t>(passed[k] >> (v * L)));
-      return xsimd::select((word & ln.lane_bit) != I(0), I(1 << k), I(0));
+      return xsimd::min(word & ln.lane_bit, I(1)) << k;
     };
     if (S == 4) return (sample(0) | sample(1)) | (sample(2) | sample(3));
     I samples(0);
@@ -356,6 +366,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
                             bool ssaa, int S, int s, std::uint32_t bits, std::int32_t color,
                             F fx_blk, F fy_blk, const std::uint64_t* passed) {
     const std::uint32_t front = front_lanes(t);
+    const int from = q.n;
     // Every vector of the batch is appended, empty ones too (they add no entry): whether a
     // vector is empty is data, and a branch on it mispredicted more than the work costs.
     for (int j = 0; j < kBatchVectors; ++j) {
@@ -363,13 +374,14 @@ struct ShadeSimd : simd::LaneTypes<A> {
       const int v = g * kBatchVectors + j;
       const F x = fx_blk + ln.colf[v], y = fy_blk + ln.rowf[v];
       if (ssaa) {
-        append(q, t, ln.planes, lanes, x + ln.ox[s], y + ln.oy[s],
-               I(color + s * kBlockPixels) + ln.pixel[v], I(1), front);
+        append(q, lanes, x + ln.ox[s], y + ln.oy[s], I(color + s * kBlockPixels) + ln.pixel[v],
+               I(1), front);
       } else {
-        append(q, t, ln.planes, lanes, x + F(0.5f), y + F(0.5f), I(color) + ln.pixel[v],
+        append(q, lanes, x + F(0.5f), y + F(0.5f), I(color) + ln.pixel[v],
                samples_passed(ln, passed, S, v), front);
       }
     }
+    append_varyings(q, t, ln.planes, from);
     if (q.n >= kShaderBatch) flush(q);
   }
 
