@@ -2,11 +2,12 @@
 # bench/instructions/per-stage.sh — where a frame's instructions go: per triangle, per stage.
 #
 # Takes: a scene and `mosaic render` options (default: random-small --msaa 4); environment ISA,
-# a `mosaic render --isa` value (default avx2; sse4.1 also runs: valgrind cannot run AVX-512). Gives: the table of per_stage.py on stdout.
+# a `mosaic render --isa` value (default avx2; sse4.1 also runs: valgrind cannot run AVX-512).
+# Gives: the table of per_stage.py on stdout.
 # Builds the profile preset (Release flags with -g; the CLI only, in build/profile) and renders
 # the frame once on one thread under callgrind: about a minute for 100k small triangles.
-# Instruction counts repeat to within 0.05 % from run to run, so two versions of a kernel compare here
-# where wall-clock times on a shared machine do not.
+# Instruction counts repeat to within 0.05 % from run to run, so two versions of a kernel compare
+# here where wall-clock times on a shared machine do not.
 set -eu
 
 root=$(cd "$(dirname "$0")/../.." && pwd)
