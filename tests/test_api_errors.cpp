@@ -308,6 +308,109 @@ TEST_F(BadDraw, IndexOutOfRange) {
   expect_rejected(Errc::kIndexOutOfRange, {empty.draw()});
 }
 
+// The fast path checks index ranges in its front end, chunk by chunk and in parallel: a bad
+// index deep in a large mesh, in any chunk, with or without the vertex stage, 32- or 16-bit,
+// still throws validate()'s error (the first bad position) and leaves the target as it was.
+TEST_F(BadDraw, IndexOutOfRangeDeepInALargeMesh) {
+  // A 60 × 60 grid of cells, two triangles each (7,200 triangles, several front-end chunks):
+  // shared vertices, so the vertex stage projects them (more indices than vertices).
+  constexpr int kCells = 60;
+  Mesh grid = test::screen_mesh();
+  grid.color_source = ColorSource::kConstant;
+  for (int y = 0; y <= kCells; ++y)
+    for (int x = 0; x <= kCells; ++x)
+      grid.positions.emplace_back(static_cast<float>(x) * 64.0f / kCells,
+                                  static_cast<float>(y) * 64.0f / kCells, 0.25f, 1.0f);
+  const auto at = [](int x, int y) { return static_cast<std::uint32_t>(y * (kCells + 1) + x); };
+  for (int y = 0; y < kCells; ++y)
+    for (int x = 0; x < kCells; ++x)
+      for (std::uint32_t i :
+           {at(x, y), at(x + 1, y), at(x, y + 1), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1)})
+        grid.indices.push_back(i);
+  // The same triangles with a vertex each: no vertex stage (as many indices as vertices).
+  Mesh soup = test::screen_mesh();
+  soup.color_source = ColorSource::kConstant;
+  for (std::uint32_t i : grid.indices) {
+    soup.indices.push_back(static_cast<std::uint32_t>(soup.positions.size()));
+    soup.positions.push_back(grid.positions[i]);
+  }
+  const std::uint32_t vertices_grid = static_cast<std::uint32_t>(grid.positions.size());
+  const std::uint32_t vertices_soup = static_cast<std::uint32_t>(soup.positions.size());
+
+  std::vector<Isa> isas = available_isas();
+  isas.push_back(Isa::kAuto);
+  for (const bool shared : {true, false})
+    for (const std::size_t position : {std::size_t{5}, std::size_t{13'001}, std::size_t{21'597}})
+      for (const bool narrow : {false, true}) {
+        Mesh m = shared ? grid : soup;
+        const std::uint32_t bad = (shared ? vertices_grid : vertices_soup) + 7;
+        m.indices[position] = narrow ? 0xffffu : bad;
+        // A second bad index later on: the error names the first.
+        m.indices[21'598] = narrow ? 0xfffeu : bad + 1;
+        std::vector<std::uint16_t> indices16(m.indices.begin(), m.indices.end());
+        Draw d = m.draw();
+        if (narrow) d.indices = indices16;
+        const std::string expected = "index " + std::to_string(m.indices[position]) +
+                                     " at position " + std::to_string(position) + " ";
+        for (Isa isa : isas)
+          for (int threads : {1, 2, 7}) {
+            SCOPED_TRACE(std::string(to_string(isa)) + " threads " + std::to_string(threads) +
+                         (shared ? " shared" : " soup") + (narrow ? " 16-bit" : " 32-bit") +
+                         " position " + std::to_string(position));
+            RendererOptions o;
+            o.isa = isa;
+            o.threads = threads;
+            Renderer r(o);
+            RenderTarget t(64, 64, 4, TargetOptions{true, true});
+            const Draw g = good_.draw();
+            Frame good;
+            good.draws = std::span<const Draw>(&g, 1);
+            r.render(good, t);
+            const std::uint64_t hash = t.image_hash();
+            const std::vector<float> depth(t.sample_depth().begin(), t.sample_depth().end());
+            Frame bad_frame;
+            bad_frame.draws = std::span<const Draw>(&d, 1);
+            std::string what;
+            try {
+              r.render(bad_frame, t);
+              ADD_FAILURE() << "no error";
+            } catch (const Error& e) {
+              EXPECT_EQ(e.code(), Errc::kIndexOutOfRange);
+              what = e.what();
+            }
+            EXPECT_NE(what.find(expected), std::string::npos) << what;
+            EXPECT_EQ(t.image_hash(), hash);
+            EXPECT_TRUE(std::equal(depth.begin(), depth.end(), t.sample_depth().begin(),
+                                   t.sample_depth().end()));
+            // The renderer is whole afterwards: the mesh with its index mended draws.
+            Draw mended = d;
+            std::vector<std::uint32_t> fixed32 = m.indices;
+            fixed32[position] = 0;
+            fixed32[21'598] = 0;
+            const std::vector<std::uint16_t> fixed16(fixed32.begin(), fixed32.end());
+            if (narrow) {
+              mended.indices = fixed16;
+            } else {
+              mended.indices = fixed32;
+            }
+            Frame fine;
+            fine.draws = std::span<const Draw>(&mended, 1);
+            EXPECT_NO_THROW(r.render(fine, t));
+          }
+      }
+}
+
+// A frame with a bad index in one draw and another error in a later draw throws the first in
+// draw order, as validate() does, though the fast path checks indices after the other checks.
+TEST_F(BadDraw, FirstErrorInDrawOrder) {
+  Mesh bad_index = good_;
+  bad_index.indices = {0, 1, 2, 3, 4, 9};
+  Mesh bad_count = good_;
+  bad_count.indices = {0, 1, 2, 3};
+  expect_rejected(Errc::kIndexOutOfRange, {bad_index.draw(), bad_count.draw()});
+  expect_rejected(Errc::kInvalidDraw, {bad_count.draw(), bad_index.draw()});
+}
+
 TEST_F(BadDraw, IndexCountNotAMultipleOfThree) {
   Mesh m = good_;
   m.indices = {0, 1, 2, 3};

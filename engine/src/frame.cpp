@@ -1,8 +1,8 @@
 // frame.cpp — the frame orchestrator: the only place that knows the order of the stages.
 //
-// validate → vertex stage (each vertex of an indexed mesh projected once) → front end (transform,
-// clip, cull, snap, setup) → binning (each chunk right after its front end) → tile rasterization
-// (coverage, hierarchical z, depth, shading) → resolve.
+// validate → vertex stage (each vertex of an indexed mesh projected once) → front end (index
+// range, transform, clip, cull, snap, setup) → binning (each chunk right after its front end) →
+// tile rasterization (coverage, hierarchical z, depth, shading) → resolve.
 // Isa::kReference sends the whole frame to the exact scalar oracle instead.
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -102,7 +102,7 @@ void validate_rect(const std::optional<PixelRect>& rect, const char* name, int m
 
 }  // namespace
 
-void validate_draw(const Draw& draw, std::size_t d) {
+void validate_draw(const Draw& draw, std::size_t d, IndexCheck check) {
   const std::string where = "draw " + std::to_string(d) + ": ";
   const bool xyz = !draw.positions_xyz.empty();
   const std::size_t vertices = front::vertex_count(draw);
@@ -120,7 +120,7 @@ void validate_draw(const Draw& draw, std::size_t d) {
     if (draw.indices.size() % 3 != 0)
       throw Error(Errc::kInvalidDraw, where + "index count " + std::to_string(draw.indices.size()) +
                                           " is not a multiple of 3");
-    for (std::size_t i = 0; i < draw.indices.size(); ++i) {
+    for (std::size_t i = 0; check == IndexCheck::kHere && i < draw.indices.size(); ++i) {
       if (draw.indices[i] >= vertices)
         throw Error(Errc::kIndexOutOfRange, where + "index " + std::to_string(draw.indices[i]) +
                                                 " at position " + std::to_string(i) +
@@ -145,7 +145,9 @@ void validate_draw(const Draw& draw, std::size_t d) {
 
 }  // namespace detail
 
-void validate(const Frame& frame, const RenderTarget& target) {
+namespace {
+
+void validate(const Frame& frame, const RenderTarget& target, detail::IndexCheck indices) {
   if (frame.color_load == LoadOp::kLoad && !target.options().keep_sample_color)
     throw Error(Errc::kInvalidArgument,
                 "Frame::color_load is kLoad, but the target keeps no sample colour to load "
@@ -157,7 +159,25 @@ void validate(const Frame& frame, const RenderTarget& target) {
   if (frame.draws.size() > front::kMaxDraws)
     throw Error(Errc::kInvalidArgument, "a frame holds " + std::to_string(frame.draws.size()) +
                                             " draws; at most " + std::to_string(front::kMaxDraws));
-  for (std::size_t d = 0; d < frame.draws.size(); ++d) detail::validate_draw(frame.draws[d], d);
+  for (std::size_t d = 0; d < frame.draws.size(); ++d)
+    detail::validate_draw(frame.draws[d], d, indices);
+}
+
+// validate() but the index ranges, which the front end checks (Renderer::Impl::render_fast()).
+// A frame that fails is checked whole again, so that it throws validate()'s first error.
+void validate_but_indices(const Frame& frame, const RenderTarget& target) {
+  try {
+    validate(frame, target, detail::IndexCheck::kInFrontEnd);
+  } catch (const Error&) {
+    validate(frame, target, detail::IndexCheck::kHere);
+    throw;
+  }
+}
+
+}  // namespace
+
+void validate(const Frame& frame, const RenderTarget& target) {
+  validate(frame, target, detail::IndexCheck::kHere);
 }
 
 int default_tile_size(int samples) { return raster::tile_size_for(samples); }
@@ -389,10 +409,19 @@ int Renderer::threads() const noexcept {
 FrameStats Renderer::render(const Frame& frame, RenderTarget& target) {
   if (!impl_) throw Error(Errc::kInvalidArgument, "render() called on a moved-from Renderer");
   const BusyGuard busy(impl_->busy, "render()");
-  validate(frame, target);
-  start_loaded_samples(frame, target);
-  const FrameStats stats = impl_->isa == Isa::kReference ? impl_->render_reference(frame, target)
-                                                         : impl_->render_fast(frame, target);
+  const auto t0 = std::chrono::steady_clock::now();
+  // The fast path's front end checks each chunk's indices before it reads them, in parallel; the
+  // reference and the painter's path (reference::setup_frame()) trust them.
+  if (impl_->isa != Isa::kReference && !frame.painter) {
+    validate_but_indices(frame, target);
+  } else {
+    validate(frame, target);
+  }
+  const double ms_validate = ms_between(t0, std::chrono::steady_clock::now());
+  FrameStats stats = impl_->isa == Isa::kReference ? impl_->render_reference(frame, target)
+                                                   : impl_->render_fast(frame, target);
+  stats.ms_setup += ms_validate;
+  stats.ms_total += ms_validate;
   target.mark_rendered();
   return stats;
 }
@@ -403,6 +432,7 @@ const HierarchicalZ& Renderer::hierarchical_z() const noexcept {
 }
 
 FrameStats Renderer::Impl::render_reference(const Frame& frame, RenderTarget& target) {
+  start_loaded_samples(frame, target);
   if (!frame.keep_hierarchical_z) {
     hiz.clear();
     return reference::render(frame, target);
@@ -536,7 +566,17 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
     }
   }));
   front_edges.join();
-  front_stats.combine_each([&](const front::FrontStats& fs) { fs.add_to(stats); });
+  bool bad_index = false;
+  front_stats.combine_each([&](const front::FrontStats& fs) {
+    fs.add_to(stats);
+    bad_index = bad_index || fs.index_out_of_range;
+  });
+  if (bad_index) {
+    // Nothing has touched the target yet: throw validate()'s error, naming the first bad index.
+    validate(frame, target);
+    throw Error(Errc::kIndexOutOfRange, "an index is past the last vertex of its draw");
+  }
+  start_loaded_samples(frame, target);
   stats.triangles_binned = binned.combine(std::plus<>());
   const auto t2 = Clock::now();
   const double setup_share = setup_thread_ms.combine(std::plus<>()),

@@ -116,6 +116,11 @@ class IndexSpan {
   std::size_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
   bool is_16_bit() const { return narrow_ != nullptr; }
+  /// The indices as stored: the 32-bit ones, or the 16-bit ones; the other span is empty.
+  std::span<const std::uint32_t> wide() const { return {wide_, wide_ != nullptr ? size_ : 0}; }
+  std::span<const std::uint16_t> narrow() const {
+    return {narrow_, narrow_ != nullptr ? size_ : 0};
+  }
 
  private:
   const std::uint32_t* wide_ = nullptr;

@@ -14,6 +14,7 @@ FrontStats& FrontStats::operator+=(const FrontStats& o) {
   clipped += o.clipped;
   drawn += o.drawn;
   no_sample += o.no_sample;
+  index_out_of_range = index_out_of_range || o.index_out_of_range;
   return *this;
 }
 
@@ -172,6 +173,14 @@ void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t beg
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
                    FrontStats& stats, std::vector<Plane>* planes, int samples,
                    const VertexCache* /*vertices*/) {
+  const std::size_t vertices = vertex_count(draw);
+  for (std::size_t i = 3 * std::size_t{begin}; i < 3 * std::size_t{end} && !draw.indices.empty();
+       ++i) {
+    if (draw.indices[i] >= vertices) {
+      stats.index_out_of_range = true;
+      return;
+    }
+  }
   TriangleFrontEnd front(draw, draw_index, width, height, out, stats, planes, samples);
   for (std::uint32_t t = begin; t < end; ++t) front.run(t);
 }

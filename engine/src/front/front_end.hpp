@@ -29,6 +29,9 @@ struct FrontStats {
   /// Culled: the box holds no sample position, or the triangle covers none of the few it holds
   /// (SetupReject::kNoSample, kNoCoveredSample).
   std::uint64_t no_sample = 0;
+  /// The range held an index past the draw's last vertex, and was not set up: the frame throws.
+  /// (Renderer::render() leaves the index check to the front end, which reads them anyway.)
+  bool index_out_of_range = false;
   FrontStats& operator+=(const FrontStats& o);
   void add_to(FrameStats& s) const;
 };
@@ -46,6 +49,7 @@ std::uint32_t triangle_count(const Draw& draw);
 /// position (0: no such cull, as the occlusion queries ask).
 /// `vertices`: the draw's projected vertices (front/vertex_stage.hpp), or null or empty. The
 /// SIMD front ends read them instead of the draw's positions; this one, the oracle, ignores them.
+/// A range that holds an index out of range sets nothing up and sets stats.index_out_of_range.
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
                    FrontStats& stats, std::vector<Plane>* planes = nullptr, int samples = 0,

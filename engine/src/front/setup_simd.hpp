@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 #include <xsimd/xsimd.hpp>
 
@@ -723,11 +724,43 @@ struct FrontEndSimd {
     for (int k = 0; k < nvary; ++k) p[1 + k] = {static_cast<float>(r.vary[0][k][l]), 0.0f, 0.0f};
   }
 
+  /// Whether every index in `indices` is below `limit`: their maximum, in lanes. A chunk's
+  /// indices are checked before its triangles read them, and stay in the cache for them.
+  template <class T>
+  static bool all_below(std::span<const T> indices, std::uint32_t limit) {
+    using V = xsimd::batch<T, A>;
+    constexpr std::size_t L = V::size;
+    V m0(T{0}), m1(T{0});
+    std::size_t i = 0;
+    for (; i + 2 * L <= indices.size(); i += 2 * L) {
+      m0 = xsimd::max(m0, V::load_unaligned(indices.data() + i));
+      m1 = xsimd::max(m1, V::load_unaligned(indices.data() + i + L));
+    }
+    alignas(64) T lanes[L];
+    xsimd::max(m0, m1).store_aligned(lanes);
+    T m = *std::max_element(lanes, lanes + L);
+    for (; i < indices.size(); ++i) m = std::max(m, indices[i]);
+    return m < limit;
+  }
+
+  /// Whether triangles [begin, end) of `draw` name only vertices it has.
+  static bool indices_in_range(const Draw& draw, std::uint32_t begin, std::uint32_t end) {
+    const auto first = 3 * std::size_t{begin}, count = 3 * std::size_t{end - begin};
+    const auto limit = static_cast<std::uint32_t>(vertex_count(draw));
+    if (draw.indices.is_16_bit())
+      return limit > 0xffffu || all_below(draw.indices.narrow().subspan(first, count), limit);
+    return all_below(draw.indices.wide().subspan(first, count), limit);
+  }
+
   /// run_front_end() with the common case in lanes.
   static void run(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                   std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
                   FrontStats& stats, std::vector<Plane>* planes, int samples,
                   const VertexCache* cache) {
+    if (!draw.indices.empty() && !indices_in_range(draw, begin, end)) {
+      stats.index_out_of_range = true;
+      return;
+    }
     TriangleFrontEnd scalar(draw, draw_index, width, height, out, stats, planes, samples);
     if (cache && cache->empty()) cache = nullptr;
     const bool shaded = scalar.per_vertex || scalar.nvary > 0;
