@@ -110,12 +110,17 @@ inline bool is_flat(const TriangleSetup& t) { return t.planes_base == kNoPlanes;
 /// and points out.planes_base at them, unless one overflows float (a sub-1/65536 px² sliver with
 /// extreme colour slopes): that triangle stays flat, and its caller gives it its first vertex's
 /// colour. Shared by the scalar and SIMD front ends, which must agree bit for bit.
+/// The append alone, for planes known to be finite (the SIMD front end tests them in lanes).
+inline void append_color_planes(const std::array<Plane, kColorPlanes>& p,
+                                std::vector<Plane>& planes, TriangleSetup& out) {
+  out.planes_base = static_cast<std::uint32_t>(planes.size());
+  planes.insert(planes.end(), p.begin(), p.end());
+}
 inline void keep_color_planes(const std::array<Plane, kColorPlanes>& p, std::vector<Plane>& planes,
                               TriangleSetup& out) {
   for (const Plane& pl : p)
     if (!is_finite(pl)) return;
-  out.planes_base = static_cast<std::uint32_t>(planes.size());
-  planes.insert(planes.end(), p.begin(), p.end());
+  append_color_planes(p, planes, out);
 }
 
 /// The snapped, oriented corners and area a triangle's planes are built on (setup_triangle()

@@ -86,7 +86,9 @@ struct FrontEndSimd {
     /// zero area, or for a box that holds no sample position; the lanes in none of these are drawn.
     std::uint32_t scalar, outside, face, degenerate, no_sample;
     std::uint32_t interpolated;  ///< drawn with differing vertex colours: the planes below are set
-    std::uint32_t back;          ///< winding not DrawState::front_face (TriangleSetup::back_face())
+    /// Lanes whose q plane and colour or varying planes all convert to finite floats.
+    std::uint32_t planes_finite;
+    std::uint32_t back;  ///< winding not DrawState::front_face (TriangleSetup::back_face())
     alignas(64) double ea[3][N], eb[3][N], ec[3][N];  ///< edge coefficients (integers)
     alignas(64) double bx0[N], by0[N], bx1[N], by1[N];
     alignas(64) double x0[N], y0[N], z_min[N], z_max[N];
@@ -131,23 +133,30 @@ struct FrontEndSimd {
 
   /// make_plane() of setup.cpp in lanes, in its operation order (the division is not a
   /// multiplication by a reciprocal: that would round differently).
-  static void make_plane(const D (&X)[3], const D (&Y)[3], D area_px2, D f0, D f1, D f2,
-                         PlaneLanes& out) {
+  /// The lanes whose value converts to a finite float (the conversion plane() makes).
+  static B float_finite(D d) {
+    return xsimd::abs(M::to_float(d)) <= D(double{std::numeric_limits<float>::max()});
+  }
+
+  /// Returns the lanes whose plane is finite as floats (is_finite() of plane()).
+  static B make_plane(const D (&X)[3], const D (&Y)[3], D area_px2, D f0, D f1, D f2,
+                      PlaneLanes& out) {
     const D ddx = ((f1 - f0) * (Y[2] - Y[0]) - (f2 - f0) * (Y[1] - Y[0])) / area_px2;
     const D ddy = ((f2 - f0) * (X[1] - X[0]) - (f1 - f0) * (X[2] - X[0])) / area_px2;
     f0.store_aligned(out.base);
     ddx.store_aligned(out.ddx);
     ddy.store_aligned(out.ddy);
+    return float_finite(f0) && float_finite(ddx) && float_finite(ddy);
   }
 
   /// The oriented corners' 1/W normalised as setup_triangle() does (only ratios matter, so the
   /// largest is 1), into r.qn, and its plane into r.q.
-  static void q_plane(const D (&Xs)[3], const D (&Ys)[3], D area, Results& r) {
+  static B q_plane(const D (&Xs)[3], const D (&Ys)[3], D area, Results& r) {
     const D Qo[3] = {load(r.qo[0]), load(r.qo[1]), load(r.qo[2])};
     const D qmax = max3(Qo[0], Qo[1], Qo[2]);
     const D qn[3] = {Qo[0] / qmax, Qo[1] / qmax, Qo[2] / qmax};
     for (int k = 0; k < 3; ++k) qn[k].store_aligned(r.qn[k]);
-    make_plane(Xs, Ys, area, qn[0], qn[1], qn[2], r.q);
+    return make_plane(Xs, Ys, area, qn[0], qn[1], qn[2], r.q);
   }
 
   /// Oriented corners: 1 and 2 swap where the triangle was counter-clockwise on screen.
@@ -167,14 +176,17 @@ struct FrontEndSimd {
       equal = equal && c[ch][0] == c[ch][1] && c[ch][0] == c[ch][2];
     }
     r.interpolated = M::bits(!equal) & drawn;
+    r.planes_finite = 0;
     if (!r.interpolated) return;
     const D Xs[3] = {load(r.xs[0]), load(r.xs[1]), load(r.xs[2])};
     const D Ys[3] = {load(r.ys[0]), load(r.ys[1]), load(r.ys[2])};
     const D area = load(r.area_px2);
-    q_plane(Xs, Ys, area, r);
+    B finite = q_plane(Xs, Ys, area, r);
     const D qn[3] = {load(r.qn[0]), load(r.qn[1]), load(r.qn[2])};
     for (int ch = 0; ch < kColorChannels; ++ch)
-      make_plane(Xs, Ys, area, c[ch][0] * qn[0], c[ch][1] * qn[1], c[ch][2] * qn[2], r.c_q[ch]);
+      finite = finite && make_plane(Xs, Ys, area, c[ch][0] * qn[0], c[ch][1] * qn[1],
+                                    c[ch][2] * qn[2], r.c_q[ch]);
+    r.planes_finite = M::bits(finite);
   }
 
   /// setup_varyings() after the culls: the varyings gathered by vertex (floats widened to double,
@@ -190,7 +202,7 @@ struct FrontEndSimd {
     const D Xs[3] = {load(r.xs[0]), load(r.xs[1]), load(r.xs[2])};
     const D Ys[3] = {load(r.ys[0]), load(r.ys[1]), load(r.ys[2])};
     const D area = load(r.area_px2);
-    q_plane(Xs, Ys, area, r);
+    B finite = q_plane(Xs, Ys, area, r);
     const D qn[3] = {load(r.qn[0]), load(r.qn[1]), load(r.qn[2])};
     for (int j = 0; j < nvary; ++j) {
       const float* column = draw.attributes.data() + draw.varyings[j];
@@ -198,8 +210,10 @@ struct FrontEndSimd {
                       D::gather(column, row[2])};
       const auto o = oriented(ccw, a);
       for (int k = 0; k < 3; ++k) o[k].store_aligned(r.vary[k][j]);
-      make_plane(Xs, Ys, area, o[0] * qn[0], o[1] * qn[1], o[2] * qn[2], r.vary_q[j]);
+      finite =
+          finite && make_plane(Xs, Ys, area, o[0] * qn[0], o[1] * qn[1], o[2] * qn[2], r.vary_q[j]);
     }
+    r.planes_finite = M::bits(finite);
   }
 
   /// Fetches triangles t0 .. t0 + n - 1 into lanes; the lanes past n repeat lane 0, so that they
@@ -685,11 +699,12 @@ struct FrontEndSimd {
                      std::vector<Plane>* planes, TriangleSetup& ts) {
     ts.color = flat;
     if (per_vertex) {
-      if (planes && (r.interpolated & (1u << l))) {
+      // (A lane whose planes are not all finite stays flat, as keep_color_planes() leaves it.)
+      if (planes && (r.interpolated & r.planes_finite & (1u << l))) {
         std::array<Plane, kColorPlanes> p;
         p[0] = plane(r.q, l);
         for (int ch = 0; ch < kColorChannels; ++ch) p[1 + ch] = plane(r.c_q[ch], l);
-        keep_color_planes(p, *planes, ts);
+        append_color_planes(p, *planes, ts);
       }
       if (is_flat(ts)) {
         // Corner 0 is never swapped by the orientation.
@@ -712,13 +727,11 @@ struct FrontEndSimd {
     // than the planes' conversion.
     planes.resize(planes.size() + 1 + static_cast<std::size_t>(nvary));
     Plane* p = planes.data() + ts.planes_base;
-    p[0] = plane(r.q, l);
-    bool ok = is_finite(p[0]);
-    for (int k = 0; k < nvary; ++k) {
-      p[1 + k] = plane(r.vary_q[k], l);
-      ok = ok && is_finite(p[1 + k]);
+    if ((r.planes_finite >> l) & 1u) {  // is_finite() of each, in lanes (varying_planes())
+      p[0] = plane(r.q, l);
+      for (int k = 0; k < nvary; ++k) p[1 + k] = plane(r.vary_q[k], l);
+      return;
     }
-    if (ok) return;
     p[0] = {1.0f, 0.0f, 0.0f};
     // Corner 0 is never swapped by the orientation.
     for (int k = 0; k < nvary; ++k) p[1 + k] = {static_cast<float>(r.vary[0][k][l]), 0.0f, 0.0f};
