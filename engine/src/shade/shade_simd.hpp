@@ -57,7 +57,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     /// Each entry's first colour sample, as an index into color_base, and the samples it writes
     /// (bit s: index + s * kBlockPixels).
     alignas(64) std::int32_t color[kRow];
-    alignas(64) std::int32_t samples[kRow];
+    alignas(64) std::int32_t samples[kRow]{};
     std::uint64_t front_facing = 0;        ///< bit l: entry l's triangle faces the viewer
     std::uint32_t* color_base = nullptr;   ///< the tile's colour samples
     int n = 0;                             ///< entries queued
@@ -304,23 +304,33 @@ struct ShadeSimd : simd::LaneTypes<A> {
   static void write_masked(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
     alignas(64) std::int32_t c[kShaderBatch];
     for (int j = 0; j < kBatchVectors; ++j) packed[j].store_aligned(c + j * L);
+    if (q.span == 4) {
+      // The common count: each sample's keep masks (all ones where it did not pass) made in
+      // lanes, then four plain merges per entry.
+      alignas(64) std::int32_t keep[4][kShaderBatch];
+      for (int j = 0; j < kBatchVectors; ++j) {
+        const I bits = I::load_aligned(q.samples + j * L);
+        for (int k = 0; k < 4; ++k) (((bits >> k) & I(1)) - I(1)).store_aligned(keep[k] + j * L);
+      }
+      for (int l = 0; l < n; ++l) {
+        std::uint32_t* first = q.color_base + q.color[l];
+        const auto src = static_cast<std::uint32_t>(c[l]);
+        for (int k = 0; k < 4; ++k) {
+          std::uint32_t* word = first + k * kBlockPixels;
+          *word = src ^ ((src ^ *word) & static_cast<std::uint32_t>(keep[k][l]));
+        }
+      }
+      return;
+    }
     for (int l = 0; l < n; ++l) {
       std::uint32_t* first = q.color_base + q.color[l];
       const auto src = static_cast<std::uint32_t>(c[l]);
       const auto bits = static_cast<std::uint32_t>(q.samples[l]);
-      const auto write = [&](int k) {
+      for (int k = 0; k < q.span; ++k) {
         std::uint32_t* word = first + k * kBlockPixels;
         const std::uint32_t keep = (bits >> k & 1u) - 1u;  // all ones where k did not pass
         *word = src ^ ((src ^ *word) & keep);
-      };
-      if (q.span == 4) {  // the common count, unrolled
-        write(0);
-        write(1);
-        write(2);
-        write(3);
-        continue;
       }
-      for (int k = 0; k < q.span; ++k) write(k);
     }
   }
   // The same without blending, one scatter per sample index: the lanes' order keeps the queue's
