@@ -259,20 +259,26 @@ class BadDraw : public ::testing::Test {
     test::add_tri(good_, {15, 15}, {2, 14}, {13, 3}, {20, 230, 60, 255});
   }
 
+  // A renderer of `isa` on `threads` threads that has drawn the good frame into `t`.
+  Renderer after_good_frame(Isa isa, int threads, RenderTarget& t) const {
+    RendererOptions o;
+    o.isa = isa;
+    o.threads = threads;
+    Renderer r(o);
+    const Draw g = good_.draw();
+    Frame good;
+    good.draws = std::span<const Draw>(&g, 1);
+    r.render(good, t);
+    return r;
+  }
+
   void expect_rejected(Errc code, const std::vector<Draw>& bad_draws) {
     std::vector<Isa> isas = available_isas();
     isas.push_back(Isa::kAuto);
     for (Isa isa : isas) {
       SCOPED_TRACE(to_string(isa));
-      RendererOptions o;
-      o.isa = isa;
-      o.threads = 2;
-      Renderer r(o);
       RenderTarget t(16, 16, 4, TargetOptions{true, true});
-      const Draw g = good_.draw();
-      Frame good;
-      good.draws = std::span<const Draw>(&g, 1);
-      r.render(good, t);
+      Renderer r = after_good_frame(isa, 2, t);
       const std::vector<Rgba8> color(t.color().begin(), t.color().end());
       const std::vector<Rgba8> sample_color(t.sample_color().begin(), t.sample_color().end());
       const std::vector<float> sample_depth(t.sample_depth().begin(), t.sample_depth().end());
@@ -357,15 +363,8 @@ TEST_F(BadDraw, IndexOutOfRangeDeepInALargeMesh) {
             SCOPED_TRACE(std::string(to_string(isa)) + " threads " + std::to_string(threads) +
                          (shared ? " shared" : " soup") + (narrow ? " 16-bit" : " 32-bit") +
                          " position " + std::to_string(position));
-            RendererOptions o;
-            o.isa = isa;
-            o.threads = threads;
-            Renderer r(o);
             RenderTarget t(64, 64, 4, TargetOptions{true, true});
-            const Draw g = good_.draw();
-            Frame good;
-            good.draws = std::span<const Draw>(&g, 1);
-            r.render(good, t);
+            Renderer r = after_good_frame(isa, threads, t);
             const std::uint64_t hash = t.image_hash();
             const std::vector<float> depth(t.sample_depth().begin(), t.sample_depth().end());
             Frame bad_frame;
