@@ -173,12 +173,13 @@ void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t beg
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
                    FrontStats& stats, std::vector<Plane>* planes, int samples,
                    const VertexCache* /*vertices*/) {
-  const std::size_t vertices = vertex_count(draw);
-  for (std::size_t i = 3 * std::size_t{begin}; i < 3 * std::size_t{end} && !draw.indices.empty();
-       ++i) {
-    if (draw.indices[i] >= vertices) {
-      stats.index_out_of_range = true;
-      return;
+  if (!draw.indices.empty()) {
+    const std::size_t vertices = vertex_count(draw);
+    for (std::size_t i = 3 * std::size_t{begin}; i < 3 * std::size_t{end}; ++i) {
+      if (draw.indices[i] >= vertices) {
+        stats.index_out_of_range = true;
+        return;
+      }
     }
   }
   TriangleFrontEnd front(draw, draw_index, width, height, out, stats, planes, samples);

@@ -106,16 +106,18 @@ inline constexpr std::uint32_t kMaxDraws = TriangleSetup::kDrawBits;
 /// Whether a triangle without a shader is shaded with `color` (no planes) or interpolates.
 inline bool is_flat(const TriangleSetup& t) { return t.planes_base == kNoPlanes; }
 
-/// Appends an interpolated-colour triangle's planes (q, then colour·q per channel) to `planes`
-/// and points out.planes_base at them, unless one overflows float (a sub-1/65536 px² sliver with
-/// extreme colour slopes): that triangle stays flat, and its caller gives it its first vertex's
-/// colour. Shared by the scalar and SIMD front ends, which must agree bit for bit.
-/// The append alone, for planes known to be finite (the SIMD front end tests them in lanes).
+/// keep_color_planes()'s append alone, for planes known to be finite (the SIMD front end tests
+/// them in lanes).
 inline void append_color_planes(const std::array<Plane, kColorPlanes>& p,
                                 std::vector<Plane>& planes, TriangleSetup& out) {
   out.planes_base = static_cast<std::uint32_t>(planes.size());
   planes.insert(planes.end(), p.begin(), p.end());
 }
+
+/// Appends an interpolated-colour triangle's planes (q, then colour·q per channel) to `planes`
+/// and points out.planes_base at them, unless one overflows float (a sub-1/65536 px² sliver with
+/// extreme colour slopes): that triangle stays flat, and its caller gives it its first vertex's
+/// colour. Shared by the scalar and SIMD front ends, which must agree bit for bit.
 inline void keep_color_planes(const std::array<Plane, kColorPlanes>& p, std::vector<Plane>& planes,
                               TriangleSetup& out) {
   for (const Plane& pl : p)

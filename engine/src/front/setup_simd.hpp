@@ -131,14 +131,14 @@ struct FrontEndSimd {
     return xsimd::nearbyint(px * D(kUnitsPerPx)) + D(0.0);
   }
 
-  /// make_plane() of setup.cpp in lanes, in its operation order (the division is not a
-  /// multiplication by a reciprocal: that would round differently).
   /// The lanes whose value converts to a finite float (the conversion plane() makes).
   static B float_finite(D d) {
     return xsimd::abs(M::to_float(d)) <= D(double{std::numeric_limits<float>::max()});
   }
 
-  /// Returns the lanes whose plane is finite as floats (is_finite() of plane()).
+  /// make_plane() of setup.cpp in lanes, in its operation order (the division is not a
+  /// multiplication by a reciprocal: that would round differently). Returns the lanes whose
+  /// plane is finite as floats (is_finite() of plane()).
   static B make_plane(const D (&X)[3], const D (&Y)[3], D area_px2, D f0, D f1, D f2,
                       PlaneLanes& out) {
     const D ddx = ((f1 - f0) * (Y[2] - Y[0]) - (f2 - f0) * (Y[1] - Y[0])) / area_px2;
