@@ -10,6 +10,7 @@
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mosaic/mosaic.hpp"
@@ -715,6 +716,84 @@ TEST(FastPath, HierarchicalZIsExactOnEveryPathAndEmptyWhenNotAsked) {
   mosaic::Renderer r({1});
   r.render({}, target);
   EXPECT_TRUE(r.hierarchical_z().empty());
+}
+
+// A tile that no triangle reaches writes the clear values to the outputs without clearing and
+// resolving its samples. After a frame that left other values everywhere, a frame reaching a few
+// tiles: empty tiles (partial ones at the right and bottom edges too), a tile holding one small
+// triangle, tiles a long sliver's box reaches, and a depth-only frame (whose image the tiles
+// leave alone). Its image (in RGBA and in a BGRA view), sample colour and depth and hierarchical
+// z equal the reference's.
+TEST(FastPath, TilesNoTriangleReachesHoldTheClearValues) {
+  const int w = 150, h = 70;  // 32 px tiles: a column 22 px wide and a row 6 px high
+  const mosaic::Rgba8 clear{10, 20, 200, 77};
+  const float clear_depth = 0.625f;
+  mosaic::test::Rng rng(4242);
+  const std::vector<mosaic::Mesh> full = mosaic::test::random_draws(w, h, 2, 200, rng);
+  mosaic::Mesh sparse = mosaic::test::screen_mesh();
+  mosaic::test::add_tri(sparse, {40.2, 40.2}, {41.9, 40.3}, {40.3, 41.8}, {90, 80, 70, 255}, 0.25f);
+  mosaic::test::add_tri(sparse, {3.0, 60.0}, {140.0, 66.0}, {140.0, 66.1}, {1, 200, 3, 255}, 0.5f);
+  mosaic::Mesh sparse_depth = sparse;
+  sparse_depth.state.color_write = false;
+  struct Out {
+    std::vector<mosaic::Rgba8> image, sample_color, bgra;
+    std::vector<float> sample_depth, hiz_min, hiz_max;
+  };
+  auto run = [&](Isa isa, int samples, bool ssaa, int threads, int tile_size,
+                 const mosaic::Mesh& second) {
+    mosaic::Renderer r({.threads = threads, .isa = isa, .tile_size = tile_size});
+    mosaic::RenderTarget owned(w, h, samples, mosaic::TargetOptions{true, true});
+    std::vector<std::uint8_t> bgra(4u * w * h);
+    mosaic::RenderTarget view(w, h, samples,
+                              mosaic::ColorView{bgra.data(), 4u * w, mosaic::PixelFormat::kBgra8});
+    Out out;
+    for (mosaic::RenderTarget* target : {&owned, &view}) {
+      target->set_clear(clear, clear_depth);
+      for (const std::vector<mosaic::Mesh>& meshes : {full, std::vector<mosaic::Mesh>{second}}) {
+        const std::vector<mosaic::Draw> draws = mosaic::test::draws_of(meshes);
+        mosaic::Frame frame;
+        frame.draws = draws;
+        frame.ssaa = ssaa;
+        frame.keep_hierarchical_z = true;
+        r.render(frame, *target);
+      }
+      if (target == &owned) {
+        out.image.assign(owned.color().begin(), owned.color().end());
+        out.sample_color.assign(owned.sample_color().begin(), owned.sample_color().end());
+        out.sample_depth.assign(owned.sample_depth().begin(), owned.sample_depth().end());
+        out.hiz_min.assign(r.hierarchical_z().zmin().begin(), r.hierarchical_z().zmin().end());
+        out.hiz_max.assign(r.hierarchical_z().zmax().begin(), r.hierarchical_z().zmax().end());
+      }
+    }
+    for (std::size_t i = 0; i < bgra.size(); i += 4)
+      out.bgra.push_back({bgra[i + 2], bgra[i + 1], bgra[i], bgra[i + 3]});
+    return out;
+  };
+  for (const mosaic::Mesh* second : {&sparse, &sparse_depth})
+    for (auto [samples, ssaa] : {std::pair{1, false}, {4, false}, {4, true}, {16, false}}) {
+      const Out ref = run(Isa::kReference, samples, ssaa, 1, 0, *second);
+      // The frame reaches few tiles, and the empty ones hold the clear values.
+      EXPECT_EQ(ref.image.front(), clear);
+      EXPECT_EQ(ref.hiz_max.front(), clear_depth);
+      for (Isa isa : simd_isas())
+        for (int threads : {1, 2, 7})
+          for (int tile_size : {8, 32}) {
+            const std::string what =
+                std::string(mosaic::to_string(isa)) + " " + std::to_string(samples) +
+                (ssaa ? "x ssaa " : "x ") + std::to_string(threads) + " threads, tile " +
+                std::to_string(tile_size) + (second == &sparse ? "" : ", depth-only");
+            const Out fast = run(isa, samples, ssaa, threads, tile_size, *second);
+            ASSERT_EQ(fast.sample_depth.size(), ref.sample_depth.size()) << what;
+            EXPECT_TRUE(fast.image == ref.image) << what;
+            EXPECT_TRUE(fast.bgra == ref.image) << what << ": BGRA view";
+            EXPECT_TRUE(fast.sample_color == ref.sample_color) << what;
+            EXPECT_EQ(std::memcmp(fast.sample_depth.data(), ref.sample_depth.data(),
+                                  sizeof(float) * ref.sample_depth.size()),
+                      0)
+                << what;
+            EXPECT_TRUE(fast.hiz_min == ref.hiz_min && fast.hiz_max == ref.hiz_max) << what;
+          }
+    }
 }
 
 namespace {

@@ -50,6 +50,7 @@
 #include "raster/kernel_traits.hpp"
 #include "raster/sample_patterns.hpp"
 #include "raster/tile.hpp"
+#include "resolve/clear_tile.hpp"
 #include "resolve/resolve_simd.hpp"
 #include "shade/shade_simd.hpp"
 #include "simd/lane_types.hpp"
@@ -1024,8 +1025,23 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                                       cx.sc.resolved, f.image, f.image_stride, f.image_bgra);
   }
 
+  // Nanoseconds from t0 until now, for TileStats::resolve_ns.
+  static std::uint64_t ns_since(std::chrono::steady_clock::time_point t0) {
+    return static_cast<std::uint64_t>(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0)
+            .count());
+  }
+
   static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,
                   TileScratch& sc, TileStats& st) {
+    // A tile no triangle reaches that loads nothing holds only the clear values: they go to the
+    // outputs directly, without clearing and resolving its samples.
+    if (bin.empty() && !f.load_color && !f.load_depth) {
+      const auto r0 = std::chrono::steady_clock::now();
+      resolve::write_clear_tile(f, tile);
+      st.resolve_ns += ns_since(r0);
+      return;
+    }
     Context cx{f,
                tile,
                sc,
@@ -1120,9 +1136,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
     const auto r0 = std::chrono::steady_clock::now();
     resolve_tile(cx);
-    st.resolve_ns += static_cast<std::uint64_t>(
-        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - r0)
-            .count());
+    st.resolve_ns += ns_since(r0);
   }
 
   // Draws one bin run's triangles in submission order.
