@@ -333,7 +333,8 @@ void stages_table(const Results& r) {
                 << fmt(ms("stage/raster/" + s + "/4x/" + T), "%.3f") << " |\n";
     }
   }
-  std::cout << "\nClear and resolve alone (every tile through the kernel with an empty bin): ";
+  std::cout << "\nTiles with empty bins (every tile through the kernel, which writes the clear "
+               "values without clearing and resolving samples): ";
   std::string sep;
   for (const char* S : {"1x", "4x"})
     for (const char* T : {"t1", "t2"}) {

@@ -12,7 +12,8 @@
 //   stage/binning/<scene>/t<T>       binning alone, over the front end's output
 //   stage/raster/<scene>/4x/t<T>     the tile kernels alone over ready bins (each tile: clear,
 //                                    triangles, in-tile resolve; the kernel cannot be split)
-//   stage/resolve/<S>x/t<T>          the tile kernels over empty bins: clear and resolve only
+//   stage/resolve/<S>x/t<T>          the tile kernels over empty bins: each tile writes the clear
+//                                    values (resolve/clear_tile.hpp)
 //   isa/<scene>/4x/<isa>             one thread, each instruction set of available_isas(),
 //                                    the scalar reference included, for the speed-up table
 // Counters (plain per-frame values, so repetitions aggregate them as they are): Mtri/s of
