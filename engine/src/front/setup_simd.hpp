@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <span>
 #include <vector>
@@ -291,14 +292,13 @@ struct FrontEndSimd {
     v.nonfinite = 0;
     v.raw = false;
     v.cached = true;
-    const IndexSpan& indices = scalar.fetch.draw.indices;
+    std::uint32_t corners[3 * N] = {};
+    batch_indices(scalar.fetch.draw.indices, t0, n, corners);
     U all(0xffu), any(0u);
     for (int k = 0; k < 3; ++k) {
       const void* rows[N];
       for (int l = 0; l < N; ++l) {
-        const std::uint32_t t = t0 + static_cast<std::uint32_t>(l < n ? l : 0);
-        const std::uint32_t i =
-            indices.empty() ? 3 * t + static_cast<std::uint32_t>(k) : indices[3 * t + k];
+        const std::uint32_t i = corners[3 * l + k];
         v.vertex[k][l] = i;
         rows[l] = &cache.data[i];
       }
@@ -314,19 +314,33 @@ struct FrontEndSimd {
       all &= code;
       any |= code;
     }
-    alignas(64) std::uint64_t all_codes[N], any_codes[N];
-    all.store_aligned(all_codes);
-    any.store_aligned(any_codes);
-    std::uint32_t slow = 0, outside = 0;
-    for (int l = 0; l < N; ++l) {
-      const bool out = (all_codes[l] & vc::kClipPlanes) != 0;
-      const bool to_scalar =
-          (any_codes[l] & vc::kNonFinite) || (!out && (any_codes[l] & vc::kClip));
-      slow |= static_cast<std::uint32_t>(to_scalar) << l;
-      outside |= static_cast<std::uint32_t>(out) << l;
-    }
-    v.cached_scalar = slow;
+    // Each class as the sign bit of its lane: all corners outside one clip plane (a code below
+    // 64 plus 2^63 - 1 reaches 2^63 exactly when it is not 0), any corner not finite, or any
+    // corner past the guard band or the near plane.
+    static_assert(vc::kClipPlanes == 63 && vc::kClip == 1 << 6 && vc::kNonFinite == 1 << 7);
+    const auto sign_bits = [](U u) { return M::signs(xsimd::bitwise_cast<D>(u)); };
+    const std::uint32_t outside =
+        sign_bits((all & U(vc::kClipPlanes)) + U(std::numeric_limits<std::int64_t>::max()));
+    const std::uint32_t nonfinite = sign_bits(any << 56), clip = sign_bits(any << 57);
+    v.cached_scalar = nonfinite | (clip & ~outside);
     v.cached_outside = outside;
+  }
+
+  /// The vertex indices of triangles t0 .. t0 + n - 1, three a triangle, into `corners`; the
+  /// places past them repeat triangle t0's, as the lanes past n do.
+  static void batch_indices(const IndexSpan& indices, std::uint32_t t0, int n,
+                            std::uint32_t (&corners)[3 * N]) {
+    const std::size_t first = 3 * std::size_t{t0};
+    const int m = 3 * n;
+    if (indices.empty()) {
+      for (int j = 0; j < m; ++j) corners[j] = static_cast<std::uint32_t>(first + j);
+    } else if (indices.is_16_bit()) {
+      const std::uint16_t* narrow = indices.narrow().data() + first;
+      for (int j = 0; j < m; ++j) corners[j] = narrow[j];
+    } else {
+      std::memcpy(corners, indices.wide().data() + first, sizeof(std::uint32_t) * m);
+    }
+    for (int j = m; j < 3 * N; ++j) corners[j] = corners[j % 3];
   }
 
   /// The projection of VertexFetch's output in lanes, one vertex per lane: for raw positions the
