@@ -100,6 +100,8 @@ struct TileFrame {
   /// ceil(width / 8) per row (Renderer::hierarchical_z()).
   float* hiz_min = nullptr;
   float* hiz_max = nullptr;
+  /// Blocks per row of the hierarchical-z output.
+  int hiz_stride() const { return (width + kBlockSize - 1) / kBlockSize; }
   bool occluders_nearest_first = false;  ///< Frame::occluders_nearest_first
 };
 

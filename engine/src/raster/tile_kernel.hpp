@@ -895,7 +895,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   static void store_hiz(Context& cx) {
     const TileFrame& f = cx.f;
     const TileRect& tile = cx.tile;
-    const int stride = (f.width + kBlockSize - 1) / kBlockSize;
+    const int stride = f.hiz_stride();
     for (int by = 0; by * kBlockSize < tile.height; ++by) {
       for (int bx = 0; bx * kBlockSize < tile.width; ++bx) {
         const int blk = by * cx.side + bx;

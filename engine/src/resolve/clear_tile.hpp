@@ -40,7 +40,7 @@ inline void write_clear_tile(const raster::TileFrame& f, const raster::TileRect&
       std::fill_n(f.sample_depth + py * f.depth_stride + px * S, width * S, f.clear_depth);
   }
   if (f.hiz_min) {
-    const int stride = (f.width + raster::kBlockSize - 1) / raster::kBlockSize;
+    const int stride = f.hiz_stride();
     const int blocks_x = (tile.width + raster::kBlockSize - 1) / raster::kBlockSize;
     for (int by = 0; by * raster::kBlockSize < tile.height; ++by) {
       const std::size_t out = static_cast<std::size_t>(tile.y0 / raster::kBlockSize + by) * stride +
