@@ -1,7 +1,8 @@
 // simd/records.hpp — records of 64-bit words, one per double lane, turned into lanes and back.
 //
 // Part of simd/'s vocabulary: it includes nothing from engine/. The front end reads a batch's
-// corners from the vertex stage's 32-byte records, and writes its triangles' 128-byte setups;
+// corners from the vertex stage's 32-byte records (or, to pre-cull, their first 16 bytes:
+// heads()), and writes its triangles' 128-byte setups;
 // loading or storing each record whole and transposing the batch's records takes a few shuffles,
 // where moving each field of each lane took a load and a store (and gather instructions were
 // slower on the AMD hosts measured). Words travel as the bits of double lanes; int64s(),
@@ -37,6 +38,24 @@ inline void transpose4(__m256d r0, __m256d r1, __m256d r2, __m256d r3, __m256d (
 template <>
 struct Records<xsimd::avx512bw> {
   using D = xsimd::batch<double, xsimd::avx512bw>;
+  using F = xsimd::batch<float, xsimd::avx512bw>;
+  /// col[j] lane l: 32-bit word j of record rows[l] (16-byte aligned), as float bits.
+  static void heads(const void* const (&rows)[16], F (&col)[4]) {
+    __m512 r[4];
+    for (int l = 0; l < 4; ++l) {
+      // 128-bit block b holds record l + 4 b.
+      __m512 v = _mm512_castps128_ps512(head(rows[l]));
+      v = _mm512_insertf32x4(v, head(rows[l + 4]), 1);
+      v = _mm512_insertf32x4(v, head(rows[l + 8]), 2);
+      r[l] = _mm512_insertf32x4(v, head(rows[l + 12]), 3);
+    }
+    const __m512 t0 = _mm512_unpacklo_ps(r[0], r[1]), t1 = _mm512_unpackhi_ps(r[0], r[1]);
+    const __m512 t2 = _mm512_unpacklo_ps(r[2], r[3]), t3 = _mm512_unpackhi_ps(r[2], r[3]);
+    col[0] = _mm512_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+    col[1] = _mm512_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+    col[2] = _mm512_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+    col[3] = _mm512_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
+  }
   /// col[j] lane l: word j of record rows[l] (32-byte aligned), its bits as they are.
   static void columns(const void* const (&rows)[8], D (&col)[4]) {
     __m256d lo[4], hi[4];
@@ -86,6 +105,7 @@ struct Records<xsimd::avx512bw> {
 
  private:
   static __m256d load(const void* p) { return _mm256_load_pd(static_cast<const double*>(p)); }
+  static __m128 head(const void* p) { return _mm_load_ps(static_cast<const float*>(p)); }
   static D pack(__m256i lo, __m256i hi) {
     return _mm512_castsi512_pd(_mm512_or_si512(_mm512_cvtepu32_epi64(lo),
                                                _mm512_slli_epi64(_mm512_cvtepu32_epi64(hi), 32)));
@@ -97,6 +117,19 @@ struct Records<xsimd::avx512bw> {
 template <>
 struct Records<xsimd::avx2> {
   using D = xsimd::batch<double, xsimd::avx2>;
+  using F = xsimd::batch<float, xsimd::avx2>;
+  /// col[j] lane l: 32-bit word j of record rows[l] (16-byte aligned), as float bits.
+  static void heads(const void* const (&rows)[8], F (&col)[4]) {
+    __m256 r[4];
+    for (int l = 0; l < 4; ++l)  // the low half holds record l, the high half record l + 4
+      r[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(head(rows[l])), head(rows[l + 4]), 1);
+    const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+    col[0] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+    col[1] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+    col[2] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+    col[3] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
+  }
   /// col[j] lane l: word j of record rows[l] (32-byte aligned), its bits as they are.
   static void columns(const void* const (&rows)[4], D (&col)[4]) {
     __m256d c[4];
@@ -143,6 +176,7 @@ struct Records<xsimd::avx2> {
 
  private:
   static __m256d load(const void* p) { return _mm256_load_pd(static_cast<const double*>(p)); }
+  static __m128 head(const void* p) { return _mm_load_ps(static_cast<const float*>(p)); }
   static D pack(__m128i lo, __m128i hi) {
     return _mm256_castsi256_pd(_mm256_or_si256(_mm256_cvtepu32_epi64(lo),
                                                _mm256_slli_epi64(_mm256_cvtepu32_epi64(hi), 32)));
@@ -154,6 +188,16 @@ struct Records<xsimd::avx2> {
 template <>
 struct Records<xsimd::sse4_1> {
   using D = xsimd::batch<double, xsimd::sse4_1>;
+  using F = xsimd::batch<float, xsimd::sse4_1>;
+  /// col[j] lane l: 32-bit word j of record rows[l] (16-byte aligned), as float bits.
+  static void heads(const void* const (&rows)[4], F (&col)[4]) {
+    __m128 r0 = head(rows[0]), r1 = head(rows[1]), r2 = head(rows[2]), r3 = head(rows[3]);
+    _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+    col[0] = r0;
+    col[1] = r1;
+    col[2] = r2;
+    col[3] = r3;
+  }
   /// col[j] lane l: word j of record rows[l] (32-byte aligned), its bits as they are.
   static void columns(const void* const (&rows)[2], D (&col)[4]) {
     const double* r0 = static_cast<const double*>(rows[0]);
@@ -199,6 +243,9 @@ struct Records<xsimd::sse4_1> {
   static D pack_ints(const D& lo, const D& hi) {
     return _mm_castsi128_pd(_mm_unpacklo_epi32(_mm_cvttpd_epi32(lo), _mm_cvttpd_epi32(hi)));
   }
+
+ private:
+  static __m128 head(const void* p) { return _mm_load_ps(static_cast<const float*>(p)); }
 };
 #endif
 

@@ -1,7 +1,7 @@
 // simd/mask.hpp and simd/records.hpp, the vocabulary every SIMD stage is written in, on each
 // instruction set this build compiles and this CPU runs, against scalar models: lane groups
 // holding a bit, sign bits, masks to and from lanes, rounding to float, compress, scatter, and
-// records transposed into lanes. The stages use these
+// records (whole, or their first 16 bytes) transposed into lanes. The stages use these
 // at every block and batch, so an error here would show only as a wrong image somewhere; here
 // it shows as the helper and the input that broke. The helpers are compiled per set by
 // tests/isa/mask_probe.cpp.
@@ -37,6 +37,7 @@
                      std::uint32_t b);                                                     \
   void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,     \
                      double* high);                                                        \
+  void probe_heads(const void* const* rows, std::uint32_t (*words)[16]);                   \
   void probe_rows(const double* ints, const double* a, const double* b, const double* c,   \
                   const double* d, const std::uint64_t (*more)[16], void* out);            \
   }
@@ -70,6 +71,7 @@ struct Probe {
   void (*compress_float)(const float*, std::uint32_t, float*);
   bool (*scatter)(std::int32_t*, const std::int32_t*, const std::int32_t*, std::uint32_t);
   void (*columns)(const void* const*, std::uint64_t (*)[16], double*, double*);
+  void (*heads)(const void* const*, std::uint32_t (*)[16]);
   void (*rows)(const double*, const double*, const double*, const double*, const double*,
                const std::uint64_t (*)[16], void*);
 };
@@ -82,7 +84,8 @@ struct Probe {
         &mosaic::simd::ns::probe_float_mask, &mosaic::simd::ns::probe_double_less,   \
         &mosaic::simd::ns::probe_to_float, &mosaic::simd::ns::probe_compress_int,    \
         &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_scatter,   \
-        &mosaic::simd::ns::probe_columns, &mosaic::simd::ns::probe_rows              \
+        &mosaic::simd::ns::probe_columns, &mosaic::simd::ns::probe_heads,            \
+        &mosaic::simd::ns::probe_rows                                                \
   }
 
 // The probes of every set this build compiles and this CPU runs.
@@ -343,6 +346,31 @@ TEST_F(SimdMask, RecordsBecomeColumns) {
                   std::bit_cast<std::uint64_t>(static_cast<double>(f[1])))
             << mosaic::to_string(p.isa);
       }
+    }
+  }
+}
+
+// The first 16 bytes of records at scattered addresses (a window's corners name any vertex), one
+// record per float lane: each 32-bit word where it belongs, its bits as they are.
+TEST_F(SimdMask, RecordHeadsBecomeFloatLanes) {
+  struct alignas(32) Record {
+    std::uint32_t word[8];
+  };
+  std::vector<Record> pool(64);
+  for (Record& r : pool)
+    for (std::uint32_t& w : r.word) w = static_cast<std::uint32_t>(rng_());
+  for (const Probe& p : probes_) {
+    const int L = p.lanes();
+    for (int k = 0; k < 200; ++k) {
+      const void* rows[kMaxLanes];
+      int which[kMaxLanes];
+      for (int l = 0; l < L; ++l) rows[l] = &pool[which[l] = static_cast<int>(rng_() % 64)];
+      std::uint32_t words[4][16];
+      p.heads(rows, words);
+      for (int l = 0; l < L; ++l)
+        for (int j = 0; j < 4; ++j)
+          ASSERT_EQ(words[j][l], pool[which[l]].word[j])
+              << mosaic::to_string(p.isa) << " lane " << l << " word " << j;
     }
   }
 }

@@ -7,10 +7,12 @@
 // front end setup by setup.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "front/vertex_stage.hpp"
@@ -116,6 +118,8 @@ void expect_same_counts(const FrameStats& ref, const FrameStats& got, const std:
   EXPECT_EQ(ref.triangles_outside, got.triangles_outside) << what;
   EXPECT_EQ(ref.triangles_degenerate, got.triangles_degenerate) << what;
   EXPECT_EQ(ref.triangles_no_sample, got.triangles_no_sample) << what;
+  EXPECT_EQ(ref.triangles_culled_face, got.triangles_culled_face) << what;
+  EXPECT_EQ(ref.triangles_drawn, got.triangles_drawn) << what;
 }
 
 std::vector<Isa> simd_isas() {
@@ -238,6 +242,130 @@ TEST(VertexStage, InterleavedBuffersAnd16BitIndicesDrawAsTheirPackedCopies) {
       const test::Captured got = render_with({in_place}, {.threads = 2, .isa = isa});
       expect_same(ref, got, what + ", " + std::string(to_string(isa)));
       expect_same_counts(ref.stats, got.stats, what);
+    }
+  }
+}
+
+// A distant mesh in screen space: mostly triangles far below a pixel, so that the front end's
+// float pre-cull settles whole windows, with the cases it must count as setup() does. Pixel
+// coordinates are multiples of 1/256 (16.8 exact). Triangle i's corners are vertices 3i..3i+2;
+// the index list names every triangle twice, so that the draw takes the vertex stage.
+Mesh distant_mesh(int width, int height, DrawState state, std::uint64_t seed) {
+  test::Rng rng(seed);
+  Mesh m = test::screen_mesh(state);
+  const auto snap = [](double v) { return std::round(v * 256.0) / 256.0; };
+  const auto point = [&](double x, double y) { return glm::dvec2(snap(x), snap(y)); };
+  constexpr int kTriangles = 4997;  // odd: the last window is partial
+  for (int i = 0; i < kTriangles; ++i) {
+    // Corners up to 6 px past the target's edges: some boxes cut, some outside every sample.
+    const double x = rng.uniform(-6.0, width + 6.0), y = rng.uniform(-6.0, height + 6.0);
+    glm::dvec2 a = point(x, y), b, c;
+    // The second chunk (triangles 2048..) starts with larger triangles: its first window
+    // culls too few, and the rest of that piece is set up without the pre-cull.
+    const int kind = i >= 2048 && i < 2048 + 300 ? 5 : static_cast<int>(rng.range(0, 19));
+    if (i % 97 == 0) {
+      // Twice the area is -1 unit², where float's products round it to 0: past the pre-cull's
+      // box limit, so setup() decides it in double.
+      a = point(rng.uniform(0.0, width - 33.0), rng.uniform(0.0, height - 33.0));
+      b = a + glm::dvec2(8191.0, 8190.0) / 256.0;
+      c = a + glm::dvec2(8190.0, 8189.0) / 256.0;
+    } else if (kind < 12) {  // far below a pixel, either winding
+      b = point(x + rng.uniform(-0.3, 0.3), y + rng.uniform(-0.3, 0.3));
+      c = point(x + rng.uniform(-0.3, 0.3), y + rng.uniform(-0.3, 0.3));
+    } else if (kind == 12) {  // zero area: collinear corners
+      const glm::dvec2 d = point(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2));
+      b = a + d;
+      c = a + 2.0 * d;
+    } else if (kind == 13) {  // zero area: a repeated corner
+      b = a;
+      c = point(x + rng.uniform(-0.3, 0.3), y + rng.uniform(-0.3, 0.3));
+    } else if (kind <= 15) {
+      // Boxes at the pre-cull's size limit: 2048 units (8 px) wide or tall, or one unit more,
+      // a fraction of a pixel thick, between rows or columns of samples or across them.
+      const double side = 8.0 + (rng.coin() ? 1.0 / 256.0 : 0.0);
+      const double thick = rng.uniform(0.01, 0.6);
+      const glm::dvec2 base = point(std::floor(x) + rng.uniform(0.0, 1.0), std::floor(y) + 0.03);
+      if (kind == 14) {
+        a = base;
+        b = base + glm::dvec2(side, 0.0);
+        c = point(base.x + rng.uniform(0.0, side), base.y + thick);
+      } else {
+        a = glm::dvec2(base.y, base.x);
+        b = a + glm::dvec2(0.0, side);
+        c = point(a.x + thick, a.y + rng.uniform(0.0, side));
+      }
+      if (rng.coin()) std::swap(b, c);
+    } else {  // a pixel or more: nearly always covers a sample
+      b = point(x + rng.uniform(-3.0, 3.0), y + rng.uniform(-3.0, 3.0));
+      c = point(x + rng.uniform(-3.0, 3.0), y + rng.uniform(-3.0, 3.0));
+    }
+    test::add_tri(m, a, b, c, test::distinct_color(static_cast<std::uint32_t>(i)),
+                  static_cast<float>(rng.uniform(0.1, 0.9)));
+  }
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::uint32_t v = 0; v < 3 * kTriangles; ++v) m.indices.push_back(v);
+  const std::vector<Rgba8> once = m.colors;  // one per submitted triangle
+  m.colors.insert(m.colors.end(), once.begin(), once.end());
+  return m;
+}
+
+// The front end culls a distant mesh's triangles from their corners' projections in float lanes
+// before setting any up. Its counts (outside, zero area, facing, no sample) and everything drawn
+// equal the reference's, for every cull mode and winding, with a viewport and scissor that cut
+// boxes, at 1, 4 and 16 samples, with 16- and 32-bit indices, on every SIMD path.
+TEST(VertexStage, DistantMeshesCulledBeforeSetUpCountAsTheReference) {
+  constexpr int kW = 96, kH = 64;
+  struct Case {
+    CullMode cull;
+    FrontFace front;
+    bool clipped;
+  };
+  const Case cases[] = {{CullMode::kNone, FrontFace::kCounterClockwise, false},
+                        {CullMode::kBack, FrontFace::kCounterClockwise, false},
+                        {CullMode::kFront, FrontFace::kClockwise, false},
+                        {CullMode::kBack, FrontFace::kClockwise, true}};
+  std::uint64_t seed = 11;
+  for (const Case& k : cases) {
+    DrawState state;
+    state.cull = k.cull;
+    state.front_face = k.front;
+    if (k.clipped) {
+      state.viewport = PixelRect{6, 3, 80, 56};
+      state.scissor = PixelRect{14, 9, 50, 40};
+    }
+    const Mesh mesh = distant_mesh(kW, kH, state, ++seed);
+    const std::vector<std::uint16_t> narrow(mesh.indices.begin(), mesh.indices.end());
+    Draw wide_draw = mesh.draw();
+    Draw narrow_draw = wide_draw;
+    narrow_draw.indices = narrow;
+    ASSERT_TRUE(front::wants_vertex_stage(wide_draw));
+    for (int samples : {1, 4, 16}) {
+      const std::string what = "cull " + std::to_string(static_cast<int>(k.cull)) + ", front " +
+                               std::to_string(static_cast<int>(k.front)) + ", clipped " +
+                               std::to_string(k.clipped) + ", " + std::to_string(samples) + "x";
+      const std::vector<Draw> draws{wide_draw};
+      const test::Captured ref =
+          test::render_draws(draws, kW, kH, {samples, false, Isa::kReference, 1}, test::kClear);
+      // The mesh has every case the pre-cull counts.
+      EXPECT_GT(ref.stats.triangles_no_sample, 400u) << what;
+      EXPECT_GT(ref.stats.triangles_degenerate, 400u) << what;
+      EXPECT_GT(ref.stats.triangles_outside, 2000u) << what;
+      EXPECT_GT(ref.stats.triangles_drawn, 200u) << what;
+      if (k.cull != CullMode::kNone) {
+        EXPECT_GT(ref.stats.triangles_culled_face, 2000u) << what;
+      }
+      for (Isa isa : simd_isas())
+        for (int threads : {1, 2})
+          for (const Draw* d : {&wide_draw, &narrow_draw}) {
+            const std::string w = what + ", " + std::string(to_string(isa)) + ", " +
+                                  std::to_string(threads) + " threads, " +
+                                  (d == &narrow_draw ? "16" : "32") + "-bit";
+            const std::vector<Draw> one{*d};
+            const test::Captured got =
+                test::render_draws(one, kW, kH, {samples, false, isa, threads}, test::kClear);
+            test::expect_same(ref, got, w);
+            expect_same_counts(ref.stats, got.stats, w);
+          }
     }
   }
 }

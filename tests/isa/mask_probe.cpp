@@ -84,6 +84,20 @@ void probe_columns(const void* const* rows, std::uint64_t (*words)[kMaxProbeLane
   Records<Arch>::high_floats(col[0]).store_unaligned(high);
 }
 
+// Records<>::heads() of the records at rows[0 .. float lanes): words[j][l] is 32-bit word j of
+// record l.
+void probe_heads(const void* const* rows, std::uint32_t (*words)[kMaxProbeLanes]) {
+  const void* r[T::L];
+  for (int l = 0; l < T::L; ++l) r[l] = rows[l];
+  T::F col[4];
+  Records<Arch>::heads(r, col);
+  for (int j = 0; j < 4; ++j) {
+    alignas(64) float w[T::L];
+    col[j].store_aligned(w);
+    for (int l = 0; l < T::L; ++l) std::memcpy(&words[j][l], &w[l], sizeof w[l]);
+  }
+}
+
 // Records<>::rows() of words made from double lanes: record l at out + l * 64 bytes gets
 // int64s(ints[l]), pack_floats(a[l], b[l]), pack_ints(c[l], d[l]) and words 3..7 as given in
 // more[j][l] (8 words a record, two blocks of four).

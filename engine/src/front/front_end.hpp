@@ -77,8 +77,9 @@ struct VertexFetch {
   }
 
   // Fetches vertex `i`. Returns false when a coordinate is NaN or infinite. Double precision
-  // keeps 1e30-sized coordinates finite.
-  bool operator()(std::uint32_t i, ClipVertex& out) const {
+  // keeps 1e30-sized coordinates finite. Always inlined: an out-of-line copy compiled into one
+  // instruction set's objects could be the one the linker keeps for every caller.
+  [[gnu::always_inline]] bool operator()(std::uint32_t i, ClipVertex& out) const {
     glm::dvec4 p;
     if (!draw.positions_xyz.empty()) {
       p = transform * glm::dvec4(glm::dvec3(draw.positions_xyz[i]), 1.0);

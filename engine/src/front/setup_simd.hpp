@@ -13,7 +13,9 @@
 //
 // It also fills the vertex stage's cache (front/vertex_stage.hpp) with the same per-vertex
 // operations in lanes of vertices; a draw with a cache reads its triangles' corners from it
-// already projected. Varyings are fetched only for the triangles that are drawn.
+// already projected. Varyings are fetched only for the triangles that are drawn. Such a draw is
+// first pre-culled in float lanes (precull()): the triangles of a distant mesh, which setup()
+// would cull for covering no sample, are counted from their corners' records without a set-up.
 //
 // The snapped 16.8 coordinates, areas and edge functions are integers below 2^50, computed in
 // double lanes: exact, as in the scalar int64 code (fixed_point.hpp has the bit budget).
@@ -217,6 +219,13 @@ struct FrontEndSimd {
     r.planes_finite = M::bits(finite);
   }
 
+  /// VertexFetch of one corner, out of line so that fetch() stays small enough to inline into
+  /// run(); a transformed vertex's matrix product costs more than the call.
+  [[gnu::noinline]] static bool fetch_vertex(const VertexFetch& fetch, std::uint32_t i,
+                                             ClipVertex& c) {
+    return fetch(i, c);
+  }
+
   /// Fetches triangles t0 .. t0 + n - 1 into lanes; the lanes past n repeat lane 0, so that they
   /// compute something harmless (their results are not read).
   static void fetch(const TriangleFrontEnd& scalar, std::uint32_t t0, int n, Vertices& v) {
@@ -247,7 +256,7 @@ struct FrontEndSimd {
         ClipVertex c{};
         const std::uint32_t i = scalar.fetch.vertex(t, k);
         v.vertex[k][l] = i;
-        ok = ok && scalar.fetch(i, c);
+        ok = ok && fetch_vertex(scalar.fetch, i, c);
         v.X[k][l] = c.X;
         v.Y[k][l] = c.Y;
         v.Z[k][l] = c.Z;
@@ -280,8 +289,8 @@ struct FrontEndSimd {
   /// fetch() for a draw with a vertex cache: the corners' projections in lanes (each lane's record
   /// loaded whole, the batch's records transposed), and the lanes' clip classes from the
   /// corners' codes, as setup() finds them from the positions.
-  static void fetch_cached(const TriangleFrontEnd& scalar, const VertexCache& cache,
-                           std::uint32_t t0, int n, Vertices& v) {
+  static void fetch_cached(const VertexCache& cache, const std::uint32_t (&corners)[3 * N],
+                           Vertices& v) {
     namespace vc = vertex_code;
     // The record's 64-bit words, as simd::Records<A> transposes them.
     static_assert(offsetof(ProjectedVertex, px) == 0 && offsetof(ProjectedVertex, py) == 4 &&
@@ -292,8 +301,6 @@ struct FrontEndSimd {
     v.nonfinite = 0;
     v.raw = false;
     v.cached = true;
-    std::uint32_t corners[3 * N] = {};
-    batch_indices(scalar.fetch.draw.indices, t0, n, corners);
     U all(0xffu), any(0u);
     for (int k = 0; k < 3; ++k) {
       const void* rows[N];
@@ -337,10 +344,24 @@ struct FrontEndSimd {
     } else if (indices.is_16_bit()) {
       const std::uint16_t* narrow = indices.narrow().data() + first;
       for (int j = 0; j < m; ++j) corners[j] = narrow[j];
+    } else if (n == N) {  // a copy of known size: vector moves, not a string instruction
+      std::memcpy(corners, indices.wide().data() + first, sizeof corners);
     } else {
       std::memcpy(corners, indices.wide().data() + first, sizeof(std::uint32_t) * m);
     }
     for (int j = m; j < 3 * N; ++j) corners[j] = corners[j % 3];
+  }
+
+  /// The vertex indices of the n triangles listed in `ids`, three a triangle, into `corners` (as
+  /// batch_indices() makes them); the places past them repeat the first triangle's.
+  static void listed_indices(const IndexSpan& indices, const std::uint32_t* ids, int n,
+                             std::uint32_t (&corners)[3 * N]) {
+    for (int l = 0; l < N; ++l) {
+      const std::size_t first = 3 * std::size_t{ids[l < n ? l : 0]};
+      for (std::size_t k = 0; k < 3; ++k)
+        corners[3 * l + k] =
+            indices.empty() ? static_cast<std::uint32_t>(first + k) : indices[first + k];
+    }
   }
 
   /// The projection of VertexFetch's output in lanes, one vertex per lane: for raw positions the
@@ -435,6 +456,63 @@ struct FrontEndSimd {
     }
   }
 
+  /// One 16.8 unit in pixels: dividing by 256 is exact in float and double.
+  static constexpr double kPxPerUnit = 1.0 / kSubpixelOne;
+
+  /// Whether the lanes' triangles face the viewer, from their winding on screen.
+  template <class BB>
+  static BB facing_viewer(BB ccw, const DrawState& state) {
+    return state.front_face == FrontFace::kCounterClockwise ? ccw : !ccw;
+  }
+  /// Whether DrawState::cull culls the lanes' triangles, from their facing.
+  template <class BB>
+  static BB culled_by_face(BB front, const DrawState& state) {
+    return state.cull == CullMode::kBack    ? !front
+           : state.cull == CullMode::kFront ? front
+                                            : BB(false);
+  }
+
+  /// A triangle's pixel box, kept to its draw area's clip rectangle, whether that is empty, and
+  /// whether it holds a sample position (box_holds_sample() of setup.hpp).
+  template <class V>
+  struct PixelBox {
+    V bx0, by0, bx1, by1;
+    xsimd::batch_bool<typename V::value_type, A> empty, holds;
+  };
+  /// PixelBox from the snapped corners' extremes (16.8 units), in double lanes, or in float
+  /// lanes when every corner is an integer of at most 2^23 in magnitude: every step is exact
+  /// either way (integers below 2^24, and divisions by 256).
+  template <class V>
+  static PixelBox<V> pixel_box(V minx, V maxx, V miny, V maxy, const DrawArea& area,
+                               const SampleSpots& spots) {
+    using T = typename V::value_type;
+    const V per_unit(static_cast<T>(kPxPerUnit)), unit(static_cast<T>(kSubpixelOne));
+    // Kept to the area's clip rectangle [cx0, cx1) × [cy0, cy1), in the viewport's pixels; the
+    // floor of v / 256 is the scalar arithmetic shift.
+    const V cx0(static_cast<T>(area.x0)), cy0(static_cast<T>(area.y0));
+    const V cx1(static_cast<T>(area.x1)), cy1(static_cast<T>(area.y1));
+    PixelBox<V> b;
+    b.bx0 = xsimd::max(cx0, xsimd::floor(minx * per_unit));
+    b.by0 = xsimd::max(cy0, xsimd::floor(miny * per_unit));
+    b.bx1 = xsimd::min(cx1, xsimd::floor(maxx * per_unit) + V(T(1)));
+    b.by1 = xsimd::min(cy1, xsimd::floor(maxy * per_unit) + V(T(1)));
+    b.empty = b.bx0 >= b.bx1 || b.by0 >= b.by1;
+    // A box at least a pixel wide and tall that the clip rectangle does not cut holds every
+    // sample position: when all lanes' boxes are such, the answer is known without the loop.
+    const auto whole = maxx - minx >= unit && maxy - miny >= unit && minx >= cx0 * unit &&
+                       miny >= cy0 * unit && maxx < cx1 * unit && maxy < cy1 * unit;
+    b.holds = decltype(whole)(spots.count == 0 || xsimd::all(whole));
+    for (int s = 0; s < spots.count && !xsimd::all(b.holds); ++s) {
+      const V sx(static_cast<T>(spots.x[s])), sy(static_cast<T>(spots.y[s]));
+      const V sx0 = xsimd::max(b.bx0, xsimd::ceil((minx - sx) * per_unit));
+      const V sx1 = xsimd::min(b.bx1 - V(T(1)), xsimd::floor((maxx - sx) * per_unit));
+      const V sy0 = xsimd::max(b.by0, xsimd::ceil((miny - sy) * per_unit));
+      const V sy1 = xsimd::min(b.by1 - V(T(1)), xsimd::floor((maxy - sy) * per_unit));
+      b.holds = b.holds || (sx0 <= sx1 && sy0 <= sy1);
+    }
+    return b;
+  }
+
   /// clip_triangle()'s classification, the perspective divide and setup_triangle(), in lanes; a
   /// cached v brings its corners already projected. It and set_up() inline into run(), their one
   /// caller: out of line, the call costs more than the facing bits they compute.
@@ -484,39 +562,15 @@ struct FrontEndSimd {
     const D area2 = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]);
     const B degenerate = area2 == D(0.0);
     const B ccw = area2 < D(0.0);
-    const B front = state.front_face == FrontFace::kCounterClockwise ? ccw : !ccw;
-    const B face = state.cull == CullMode::kBack    ? !front
-                   : state.cull == CullMode::kFront ? front
-                                                    : B(false);
+    const B front = facing_viewer(ccw, state);
+    const B face = culled_by_face(front, state);
     r.back = M::bits(!front);
 
-    // The pixel box: floor(v / 256) is the scalar arithmetic shift, exact in double.
-    constexpr double kPxPerUnit = 1.0 / kSubpixelOne;
     const D minx = min3(px[0], px[1], px[2]), maxx = max3(px[0], px[1], px[2]);
     const D miny = min3(py[0], py[1], py[2]), maxy = max3(py[0], py[1], py[2]);
-    // Kept to the area's clip rectangle [cx0, cx1) × [cy0, cy1), in the viewport's pixels.
-    const D cx0(static_cast<double>(area.x0)), cy0(static_cast<double>(area.y0));
-    const D cx1(static_cast<double>(area.x1)), cy1(static_cast<double>(area.y1));
-    const D bx0 = xsimd::max(cx0, xsimd::floor(minx * D(kPxPerUnit)));
-    const D by0 = xsimd::max(cy0, xsimd::floor(miny * D(kPxPerUnit)));
-    const D bx1 = xsimd::min(cx1, xsimd::floor(maxx * D(kPxPerUnit)) + D(1.0));
-    const D by1 = xsimd::min(cy1, xsimd::floor(maxy * D(kPxPerUnit)) + D(1.0));
-    const B box_empty = bx0 >= bx1 || by0 >= by1;
-    // box_holds_sample() of setup.hpp in lanes (the divisions by 256 are exact). A box at least
-    // a pixel wide and tall that the clip rectangle does not cut holds every sample position:
-    // when all lanes' boxes are such, the answer is known without the loop (the same answer).
-    const D kUnit(kSubpixelOne);
-    const B whole = maxx - minx >= kUnit && maxy - miny >= kUnit && minx >= cx0 * kUnit &&
-                    miny >= cy0 * kUnit && maxx < cx1 * kUnit && maxy < cy1 * kUnit;
-    B holds(spots.count == 0 || M::bits(whole) == kAllLanes);
-    for (int s = 0; s < spots.count && M::bits(holds) != kAllLanes; ++s) {
-      const D sx(static_cast<double>(spots.x[s])), sy(static_cast<double>(spots.y[s]));
-      const D sx0 = xsimd::max(bx0, xsimd::ceil((minx - sx) * D(kPxPerUnit)));
-      const D sx1 = xsimd::min(bx1 - D(1.0), xsimd::floor((maxx - sx) * D(kPxPerUnit)));
-      const D sy0 = xsimd::max(by0, xsimd::ceil((miny - sy) * D(kPxPerUnit)));
-      const D sy1 = xsimd::min(by1 - D(1.0), xsimd::floor((maxy - sy) * D(kPxPerUnit)));
-      holds = holds || (sx0 <= sx1 && sy0 <= sy1);
-    }
+    const PixelBox<D> box = pixel_box(minx, maxx, miny, maxy, area, spots);
+    const D bx0 = box.bx0, by0 = box.by0, bx1 = box.bx1, by1 = box.by1;
+    const B box_empty = box.empty, holds = box.holds;
     // Which counter the lane's triangle goes to, in the scalar code's order of tests.
     r.scalar = scalar;
     const std::uint32_t culled = scalar | clip_culled;
@@ -751,6 +805,98 @@ struct FrontEndSimd {
     for (int k = 0; k < nvary; ++k) p[1 + k] = {static_cast<float>(r.vary[0][k][l]), 0.0f, 0.0f};
   }
 
+  using Fv = xsimd::batch<float, A>;
+  using Iv = xsimd::batch<std::int32_t, A>;
+  static constexpr int kFloatLanes = static_cast<int>(Fv::size);  ///< triangles per pre-cull step
+  /// Triangles per window of the pre-cull: one window's survivors wait in a list on the stack.
+  /// A draw piece's first window is shorter: a piece the pre-cull does not pay for (a mesh seen
+  /// close up) then tries it on few triangles.
+  static constexpr std::uint32_t kPrecullWindow = 256, kPrecullFirstWindow = 64;
+  /// The widest and tallest box (16.8 units) the pre-cull settles: corner differences of at most
+  /// 2^11 make twice the area, a difference of two products of at most 2^22, exact in float.
+  static constexpr float kPrecullMaxSide = 2048.0f;
+  /// A draw piece stops pre-culling after a window of which it culled less than
+  /// 1 / kPrecullMinCulled: there the survivors pay for the pre-cull on top of their set-up.
+  static constexpr std::uint32_t kPrecullMinCulled = 4;
+  /// Records the pre-cull can address: a vertex's first word, index * 8, is an int32 lane.
+  static constexpr std::size_t kPrecullMaxVertices = std::size_t{1} << 28;
+
+  /// The pre-cull of a draw with a vertex cache, in float lanes (twice as many as
+  /// setup()'s): of triangles [t0, t1), those setup() would cull for lying outside the view, for
+  /// zero area, for their facing, or for a box that is empty or holds no sample position, and
+  /// whose corners are in the guard band with a box of at most kPrecullMaxSide, are counted in
+  /// `stats` as setup() counts them. The others' indices go to `ids` in order (room for
+  /// t1 - t0 + kFloatLanes); returns their number. A distant mesh's triangles are nearly all
+  /// culled here, from the first 16 bytes of each corner's record, without a set-up.
+  static int precull(const TriangleFrontEnd& scalar, const VertexCache& cache, std::uint32_t t0,
+                     std::uint32_t t1, std::uint32_t* ids, FrontStats& stats) {
+    namespace vc = vertex_code;
+    static_assert(offsetof(ProjectedVertex, px) == 0 && offsetof(ProjectedVertex, py) == 4 &&
+                  offsetof(ProjectedVertex, code) == 12);
+    const IndexSpan& indices = scalar.fetch.draw.indices;
+    const DrawState& state = scalar.fetch.draw.state;
+    alignas(64) std::int32_t iota[kFloatLanes];
+    for (int l = 0; l < kFloatLanes; ++l) iota[l] = l;
+    const Iv lane = Iv::load_aligned(iota);
+    int kept = 0;
+    for (std::uint32_t t = t0; t < t1; t += kFloatLanes) {
+      const int n = static_cast<int>(std::min<std::uint32_t>(kFloatLanes, t1 - t));
+      const std::uint32_t valid = (1u << n) - 1;
+      // Each corner's record; the lanes past n repeat triangle t + n - 1. The records' first
+      // 16 bytes (px, py, z, code) are loaded whole and transposed into lanes.
+      const void* rows[3][kFloatLanes];
+      for (int l = 0; l < kFloatLanes; ++l) {
+        const std::size_t first =
+            3 * (std::size_t{t} + static_cast<std::size_t>(std::min(l, n - 1)));
+        for (std::size_t k = 0; k < 3; ++k)
+          rows[k][l] = &cache.data[indices.empty() ? first + k : indices[first + k]];
+      }
+      Fv px[3], py[3];
+      Iv all(-1), any(0);
+      for (int k = 0; k < 3; ++k) {
+        Fv head[4];
+        simd::Records<A>::heads(rows[k], head);
+        px[k] = head[0];
+        py[k] = head[1];
+        const Iv code = xsimd::bitwise_cast<Iv>(head[3]);
+        all &= code;
+        any |= code;
+      }
+      // The classes of fetch_cached() and setup(), in the order setup() counts them.
+      const std::uint32_t nonfinite = M::bits((any & Iv(vc::kNonFinite)) != Iv(0));
+      const std::uint32_t clip = M::bits((any & Iv(vc::kClip)) != Iv(0));
+      const std::uint32_t outside =
+          valid & ~nonfinite & M::bits((all & Iv(vc::kClipPlanes)) != Iv(0));
+      const Fv minx = xsimd::min(xsimd::min(px[0], px[1]), px[2]);
+      const Fv maxx = xsimd::max(xsimd::max(px[0], px[1]), px[2]);
+      const Fv miny = xsimd::min(xsimd::min(py[0], py[1]), py[2]);
+      const Fv maxy = xsimd::max(xsimd::max(py[0], py[1]), py[2]);
+      const Fv side(kPrecullMaxSide);
+      const std::uint32_t settled = valid & ~(nonfinite | clip | outside) &
+                                    M::bits(maxx - minx <= side && maxy - miny <= side);
+      const Fv area2 = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]);
+      const std::uint32_t degenerate = settled & M::bits(area2 == Fv(0.0f));
+      const std::uint32_t face =
+          settled & ~degenerate &
+          M::bits(culled_by_face(facing_viewer(area2 < Fv(0.0f), state), state));
+      const PixelBox<Fv> box = pixel_box(minx, maxx, miny, maxy, scalar.area, scalar.spots);
+      const std::uint32_t rest = settled & ~(degenerate | face);
+      const std::uint32_t empty = rest & M::bits(box.empty);
+      const std::uint32_t no_sample = rest & ~empty & M::bits(!box.holds);
+      const std::uint32_t culled = outside | degenerate | face | empty | no_sample;
+      stats.in += static_cast<std::uint64_t>(std::popcount(culled));
+      stats.outside += static_cast<std::uint64_t>(std::popcount(outside | empty));
+      stats.degenerate += static_cast<std::uint64_t>(std::popcount(degenerate));
+      stats.culled_face += static_cast<std::uint64_t>(std::popcount(face));
+      stats.no_sample += static_cast<std::uint64_t>(std::popcount(no_sample));
+      const std::uint32_t survivors = valid & ~culled;
+      M::compress(Iv(static_cast<std::int32_t>(t)) + lane, survivors)
+          .store_unaligned(reinterpret_cast<std::int32_t*>(ids + kept));
+      kept += std::popcount(survivors);
+    }
+    return kept;
+  }
+
   /// Whether every index in `indices` is below `limit`: their maximum, in lanes. A chunk's
   /// indices are checked before its triangles read them, and stay in the cache for them.
   template <class T>
@@ -799,51 +945,74 @@ struct FrontEndSimd {
     Vertices vertices[2];
     Results r;               // every field a batch reads is written by that batch first
     TriangleSetup batch[N];  // the drawn lanes' setups, before each is finished and appended
-    const auto batch_size = [&](std::uint32_t t0) {
-      return static_cast<int>(std::min<std::uint32_t>(N, end - t0));
-    };
-    const auto fetch_batch = [&](std::uint32_t t0, Vertices& v) {
-      if (cache) {
-        fetch_cached(scalar, *cache, t0, batch_size(t0), v);
+    // The triangles go through set-up in segments: [begin, end) at once, or, for a draw with a
+    // vertex cache, window by window the pre-cull's survivors (listed in `ids`), until a window
+    // culls too few and the rest of the range is one segment.
+    std::uint32_t ids[kPrecullWindow + kFloatLanes];
+    bool precull_on = cache && cache->size <= kPrecullMaxVertices;
+    for (std::uint32_t next = begin; next < end;) {
+      const std::uint32_t first = next;
+      std::uint32_t count = end - next;
+      const std::uint32_t* listed = nullptr;
+      if (precull_on) {
+        next = std::min(end, first + (first == begin ? kPrecullFirstWindow : kPrecullWindow));
+        count = static_cast<std::uint32_t>(precull(scalar, *cache, first, next, ids, stats));
+        listed = ids;
+        precull_on = (next - first - count) * kPrecullMinCulled >= next - first;
       } else {
-        fetch(scalar, t0, batch_size(t0), v);
+        next = end;
       }
-    };
-    if (begin < end) fetch_batch(begin, vertices[0]);
-    int cur = 0;
-    for (std::uint32_t t0 = begin; t0 < end; t0 += N, cur ^= 1) {
-      const int n = batch_size(t0);
-      if (end - t0 > static_cast<std::uint32_t>(N)) fetch_batch(t0 + N, vertices[cur ^ 1]);
-      setup(vertices[cur], scalar.fetch, scalar.area, shaded, scalar.spots, r);
-      const std::uint32_t drawn =
-          ((1u << n) - 1) & ~(r.scalar | r.outside | r.face | r.degenerate | r.no_sample);
-      if (drawn && scalar.per_vertex) {
-        if (vertices[cur].cached) unpack_colors(vertices[cur]);
-        color_planes(vertices[cur], drawn, r);
-      }
-      if (drawn && scalar.nvary > 0) varying_planes(scalar, vertices[cur], r);
-      // The culled lanes are only counted; the scalar and drawn ones append their setups in
-      // submission order.
-      const std::uint32_t lanes = (1u << n) - 1;
-      stats.in += static_cast<std::uint64_t>(std::popcount(lanes & ~r.scalar));
-      stats.outside += static_cast<std::uint64_t>(std::popcount(lanes & r.outside));
-      stats.culled_face += static_cast<std::uint64_t>(std::popcount(lanes & r.face));
-      stats.degenerate += static_cast<std::uint64_t>(std::popcount(lanes & r.degenerate));
-      stats.no_sample += static_cast<std::uint64_t>(std::popcount(lanes & r.no_sample));
-      stats.drawn += static_cast<std::uint64_t>(std::popcount(drawn));
-      if (drawn) build_setups(r, batch);
-      for (std::uint32_t bits = (r.scalar & lanes) | drawn; bits; bits &= bits - 1) {
-        const int l = std::countr_zero(bits);
-        const std::uint32_t t = t0 + static_cast<std::uint32_t>(l);
-        if ((r.scalar >> l) & 1u) {
-          scalar.run(t);
-          continue;
+      const auto fetch_batch = [&](std::uint32_t p, Vertices& v) {
+        const int n = static_cast<int>(std::min<std::uint32_t>(N, count - p));
+        if (!cache) return fetch(scalar, first + p, n, v);
+        std::uint32_t corners[3 * N] = {};
+        if (listed) {
+          listed_indices(draw.indices, listed + p, n, corners);
+        } else {
+          batch_indices(draw.indices, first + p, n, corners);
         }
-        const Rgba8 flat =
-            draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
-        TriangleSetup& ts = out.emplace_back(batch[l]);
-        finish(r, vertices[cur], l, scalar.area, scalar.per_vertex, flat, draw_index, planes, ts);
-        if (scalar.nvary > 0) store_varyings(r, l, scalar.nvary, *planes, ts);
+        fetch_cached(*cache, corners, v);
+      };
+      // Batch p + N is fetched while batch p is set up (the first pass fetches batch 0 too), from
+      // one call: fetch_batch() then inlines.
+      std::uint32_t fetched = 0;
+      int cur = 0;
+      for (std::uint32_t p = 0; p < count; p += N, cur ^= 1) {
+        const int n = static_cast<int>(std::min<std::uint32_t>(N, count - p));
+        for (; fetched <= p + N && fetched < count; fetched += N)
+          fetch_batch(fetched, vertices[(fetched / N) % 2]);
+        setup(vertices[cur], scalar.fetch, scalar.area, shaded, scalar.spots, r);
+        const std::uint32_t drawn =
+            ((1u << n) - 1) & ~(r.scalar | r.outside | r.face | r.degenerate | r.no_sample);
+        if (drawn && scalar.per_vertex) {
+          if (vertices[cur].cached) unpack_colors(vertices[cur]);
+          color_planes(vertices[cur], drawn, r);
+        }
+        if (drawn && scalar.nvary > 0) varying_planes(scalar, vertices[cur], r);
+        // The culled lanes are only counted; the scalar and drawn ones append their setups in
+        // submission order.
+        const std::uint32_t lanes = (1u << n) - 1;
+        stats.in += static_cast<std::uint64_t>(std::popcount(lanes & ~r.scalar));
+        stats.outside += static_cast<std::uint64_t>(std::popcount(lanes & r.outside));
+        stats.culled_face += static_cast<std::uint64_t>(std::popcount(lanes & r.face));
+        stats.degenerate += static_cast<std::uint64_t>(std::popcount(lanes & r.degenerate));
+        stats.no_sample += static_cast<std::uint64_t>(std::popcount(lanes & r.no_sample));
+        stats.drawn += static_cast<std::uint64_t>(std::popcount(drawn));
+        if (drawn) build_setups(r, batch);
+        for (std::uint32_t bits = (r.scalar & lanes) | drawn; bits; bits &= bits - 1) {
+          const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
+          const std::uint32_t t = listed ? listed[p + l] : first + p + l;
+          if ((r.scalar >> l) & 1u) {
+            scalar.run(t);
+            continue;
+          }
+          const Rgba8 flat =
+              draw.color_source == ColorSource::kPerTriangle ? draw.colors[t] : draw.color;
+          TriangleSetup& ts = out.emplace_back(batch[l]);
+          finish(r, vertices[cur], static_cast<int>(l), scalar.area, scalar.per_vertex, flat,
+                 draw_index, planes, ts);
+          if (scalar.nvary > 0) store_varyings(r, static_cast<int>(l), scalar.nvary, *planes, ts);
+        }
       }
     }
   }
