@@ -818,8 +818,6 @@ struct FrontEndSimd {
   /// A draw piece stops pre-culling after a window of which it culled less than
   /// 1 / kPrecullMinCulled: there the survivors pay for the pre-cull on top of their set-up.
   static constexpr std::uint32_t kPrecullMinCulled = 4;
-  /// Records the pre-cull can address: a vertex's first word, index * 8, is an int32 lane.
-  static constexpr std::size_t kPrecullMaxVertices = std::size_t{1} << 28;
 
   /// The pre-cull of a draw with a vertex cache, in float lanes (twice as many as
   /// setup()'s): of triangles [t0, t1), those setup() would cull for lying outside the view, for
@@ -949,7 +947,7 @@ struct FrontEndSimd {
     // vertex cache, window by window the pre-cull's survivors (listed in `ids`), until a window
     // culls too few and the rest of the range is one segment.
     std::uint32_t ids[kPrecullWindow + kFloatLanes];
-    bool precull_on = cache && cache->size <= kPrecullMaxVertices;
+    bool precull_on = cache != nullptr;
     for (std::uint32_t next = begin; next < end;) {
       const std::uint32_t first = next;
       std::uint32_t count = end - next;
