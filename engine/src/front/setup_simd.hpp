@@ -354,14 +354,10 @@ struct FrontEndSimd {
 
   /// The vertex indices of the n triangles listed in `ids`, three a triangle, into `corners` (as
   /// batch_indices() makes them); the places past them repeat the first triangle's.
-  static void listed_indices(const IndexSpan& indices, const std::uint32_t* ids, int n,
+  static void listed_indices(const VertexFetch& fetch, const std::uint32_t* ids, int n,
                              std::uint32_t (&corners)[3 * N]) {
-    for (int l = 0; l < N; ++l) {
-      const std::size_t first = 3 * std::size_t{ids[l < n ? l : 0]};
-      for (std::size_t k = 0; k < 3; ++k)
-        corners[3 * l + k] =
-            indices.empty() ? static_cast<std::uint32_t>(first + k) : indices[first + k];
-    }
+    for (int l = 0; l < N; ++l)
+      for (int k = 0; k < 3; ++k) corners[3 * l + k] = fetch.vertex(ids[l < n ? l : 0], k);
   }
 
   /// The projection of VertexFetch's output in lanes, one vertex per lane: for raw positions the
@@ -831,7 +827,6 @@ struct FrontEndSimd {
     namespace vc = vertex_code;
     static_assert(offsetof(ProjectedVertex, px) == 0 && offsetof(ProjectedVertex, py) == 4 &&
                   offsetof(ProjectedVertex, code) == 12);
-    const IndexSpan& indices = scalar.fetch.draw.indices;
     const DrawState& state = scalar.fetch.draw.state;
     alignas(64) std::int32_t iota[kFloatLanes];
     for (int l = 0; l < kFloatLanes; ++l) iota[l] = l;
@@ -844,10 +839,8 @@ struct FrontEndSimd {
       // 16 bytes (px, py, z, code) are loaded whole and transposed into lanes.
       const void* rows[3][kFloatLanes];
       for (int l = 0; l < kFloatLanes; ++l) {
-        const std::size_t first =
-            3 * (std::size_t{t} + static_cast<std::size_t>(std::min(l, n - 1)));
-        for (std::size_t k = 0; k < 3; ++k)
-          rows[k][l] = &cache.data[indices.empty() ? first + k : indices[first + k]];
+        const std::uint32_t tri = t + static_cast<std::uint32_t>(std::min(l, n - 1));
+        for (int k = 0; k < 3; ++k) rows[k][l] = &cache.data[scalar.fetch.vertex(tri, k)];
       }
       Fv px[3], py[3];
       Iv all(-1), any(0);
@@ -965,7 +958,7 @@ struct FrontEndSimd {
         if (!cache) return fetch(scalar, first + p, n, v);
         std::uint32_t corners[3 * N] = {};
         if (listed) {
-          listed_indices(draw.indices, listed + p, n, corners);
+          listed_indices(scalar.fetch, listed + p, n, corners);
         } else {
           batch_indices(draw.indices, first + p, n, corners);
         }
