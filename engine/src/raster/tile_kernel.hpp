@@ -171,20 +171,32 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       return {k, k};
     }
     if (!f.shading.empty() && f.shading[draw].generic) {
-      const Kernel k = f.shading[draw].discards ? by_depth<ColorMode::kDiscarding, false, 0>(ds)
-                                                : by_depth<ColorMode::kGeneric, false, 0>(ds);
+      if (f.shading[draw].discards) {
+        const Kernel k = by_depth<ColorMode::kDiscarding, false, 0>(ds);
+        return {k, k};
+      }
+      const Kernel k =
+          f.samples == 4 && is_default_depth(ds)
+              ? kernel<KernelTraits<DepthTest::kLess, true, ColorMode::kGeneric, false, 4>>()
+              : by_depth<ColorMode::kGeneric, false, 0>(ds);
       return {k, k};
     }
     const Kernel flat = by_samples<ColorMode::kFlat>(ds, f.samples);
     if (f.ssaa) return {flat, by_depth<ColorMode::kInterpolated, true, 0>(ds)};
     return {flat, by_samples<ColorMode::kInterpolated>(ds, f.samples)};
   }
-  // At one sample the common kernels know it, so that the per-sample loops unroll. Knowing every
-  // count doubled the specialisations, and the sanitizer builds' compile time with them.
+  // At one sample the common kernels know it, so that the per-sample loops unroll, and at 4x
+  // so do the default depth state's (a less test that writes). Knowing every count for every
+  // state doubled the specialisations, and the sanitizer builds' compile time with them.
   template <ColorMode kColor>
   static Kernel by_samples(const DrawState& ds, int samples) {
     if (samples == 1) return by_depth<kColor, false, 1>(ds);
+    if (samples == 4 && is_default_depth(ds))
+      return kernel<KernelTraits<DepthTest::kLess, true, kColor, false, 4>>();
     return by_depth<kColor, false, 0>(ds);
+  }
+  static bool is_default_depth(const DrawState& ds) {
+    return ds.depth_test == DepthTest::kLess && ds.depth_write;
   }
   template <ColorMode kColor, bool kSsaa, int kSamples>
   static Kernel by_depth(const DrawState& ds) {
