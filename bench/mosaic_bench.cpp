@@ -269,13 +269,11 @@ struct StageRig {
 
   /// Every tile through the kernel, busiest first; with `empty`, no tile gets any triangle.
   mosaic::raster::TileStats raster(mosaic::RenderTarget& target, bool empty) {
+    mosaic::bin::TileChunks tile_chunks;
+    tile_chunks.build(chunks, grid.count());
     std::vector<std::pair<std::uint64_t, int>> order;
-    for (int t = 0; t < grid.count(); ++t) {
-      std::uint64_t n = 0;
-      if (!empty)
-        for (const mosaic::bin::Chunk& c : chunks) n += c.offsets[t + 1] - c.offsets[t];
-      order.push_back({n, t});
-    }
+    for (int t = 0; t < grid.count(); ++t)
+      order.push_back({empty ? 0 : tile_chunks.triangles(chunks, t), t});
     std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
       return a.first > b.first || (a.first == b.first && a.second < b.second);
     });
@@ -302,7 +300,8 @@ struct StageRig {
               const int t = order[k].second;
               bin.clear();
               if (!empty) {
-                for (const mosaic::bin::Chunk& c : chunks) mosaic::bin::append_runs(c, t, bin);
+                for (const mosaic::bin::TileChunks::Entry& e : tile_chunks.of(t))
+                  mosaic::bin::append_runs(chunks[e.chunk], e.bin, bin);
               }
               kernel(tf, grid.rect(t), bin, sc, ts);
             }

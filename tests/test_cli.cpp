@@ -362,8 +362,10 @@ TEST_F(CliTest, ThreadsAndIsaDoNotChangeTheImage) {
         "render star --size 16x9 --no-out --isa " + std::string(mosaic::to_string(isa));
     expect_one_line_error(run(args), 1, args);
   }
-  // Every tile size, and the one the renderer picks (reported in the statistics).
-  EXPECT_EQ(stats(scene)["tile_size"], 128);
+  // Every tile size, and the one the renderer picks (reported in the statistics): this small
+  // image has two tiles of 128 px, fewer than kFewBusyTiles, so its frame is split into 32 px.
+  EXPECT_EQ(stats(scene)["tile_size"], 32);
+  EXPECT_EQ(stats("render random-small --size 1024x512 --no-out --seed 7")["tile_size"], 128);
   for (int size : {8, 16, 32, 64, 128}) {
     nlohmann::json j = stats(scene + " --tile-size " + std::to_string(size));
     EXPECT_EQ(j["tile_size"], size);

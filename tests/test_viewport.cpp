@@ -275,7 +275,8 @@ TEST(Scissor, KeepsExactlyItsSamplesOfTheUnscissoredFrame) {
 }
 
 // Triangles wholly outside the scissor are counted as outside and binned nowhere; with the
-// scissor inside one tile, no triangle is binned to two tiles (unscissored, many are).
+// scissor inside one tile (of 128 px and of the 32 px such a frame is split into), no triangle
+// is binned to two tiles (unscissored, many are).
 TEST(Scissor, TheBinnerSkipsTilesOutsideIt) {
   Mesh m = test::screen_mesh();
   // Large triangles over both tile columns and rows, and small ones left of x = 100.
@@ -292,7 +293,7 @@ TEST(Scissor, TheBinnerSkipsTilesOutsideIt) {
     EXPECT_GT(full.stats.triangles_binned, full.stats.triangles_drawn) << to_string(isa);
     EXPECT_EQ(full.stats.triangles_outside, 0u) << to_string(isa);
     const test::Captured cut =
-        render(draws, kBigW, kBigH, isa, 2, std::nullopt, PixelRect{130, 20, 40, 100});
+        render(draws, kBigW, kBigH, isa, 2, std::nullopt, PixelRect{130, 36, 20, 20});
     EXPECT_EQ(cut.stats.triangles_outside, 20u) << to_string(isa);
     EXPECT_EQ(cut.stats.triangles_drawn, 8u) << to_string(isa);
     EXPECT_EQ(cut.stats.triangles_binned, 8u) << to_string(isa);

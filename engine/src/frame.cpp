@@ -22,6 +22,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <tuple>
 
 #include "bin/binner.hpp"
 #include "frame_checks.hpp"
@@ -228,6 +229,8 @@ struct Renderer::Impl {
   std::vector<std::uint32_t> draw_triangles;
   std::vector<DrawState> states;
   std::vector<shade::DrawShading> shading;
+  bin::TileChunks tile_chunks;
+  std::tuple<int, int, int> last_split{0, 0, 0};  // (width, height, samples) of a split last frame
   std::vector<std::pair<std::uint64_t, int>> tile_order;
   // A tile worker's memory: its tile's samples and the bin runs of the tile it works on.
   struct Worker {
@@ -246,6 +249,7 @@ struct Renderer::Impl {
   std::span<const front::VertexCache> project_vertices(const Frame& frame, int W, int H);
   FrameStats render_reference(const Frame& frame, RenderTarget& target);
   void reserve(const FrameReserve& r);
+  std::uint64_t rebin(std::span<bin::Chunk> binned, const bin::TileGrid& grid);
 };
 
 namespace {
@@ -273,6 +277,9 @@ constexpr std::uint64_t kMaxReservedTriangles = std::uint64_t{1} << 30;
 /// The most vertices reserve() sizes a frame for: as many as one draw may index.
 constexpr std::uint64_t kMaxReservedVertices = 0xffffffffu;
 
+/// Tiles without triangles drawn by one task of the tile stage.
+constexpr std::size_t kEmptyTilesPerTask = 32;
+
 /// Bins a reserved chunk is sized for, per triangle: a small triangle touches one or two tiles.
 constexpr std::size_t kReservedTilesPerTriangle = 2;
 /// Out-of-line planes a reserved chunk is sized for, per triangle: 1/w and four colours.
@@ -286,7 +293,8 @@ FrameMemory frame_memory(std::span<const front::VertexCache> caches,
   for (const bin::Chunk& c : chunks) {
     m.setups += c.tris.size() * sizeof(front::TriangleSetup);
     m.planes += c.planes.size() * sizeof(front::Plane);
-    m.bins += (c.offsets.size() + c.indices.size()) * sizeof(std::uint32_t) +
+    m.bins += (c.tiles.size() + c.starts.size() + c.indices.size() + c.slot.size()) *
+                  sizeof(std::uint32_t) +
               c.pairs.size() * sizeof(std::uint64_t);
   }
   return m;
@@ -306,7 +314,8 @@ void touch_capacity(std::vector<T>& v, std::size_t n) {
 }  // namespace
 
 void Renderer::Impl::reserve(const FrameReserve& r) {
-  const int tile_size = options.tile_size ? options.tile_size : raster::tile_size_for(r.samples);
+  // The automatic choice may bin a frame again on the finer split tiles: sized for those.
+  const int tile_size = options.tile_size ? options.tile_size : bin::kSplitTileSize;
   const bin::TileGrid grid(r.width, r.height, tile_size);
   const std::size_t triangles = std::max<std::uint64_t>(r.triangles, 1);
   const std::size_t nchunks = (triangles + bin::kChunkTriangles - 1) / bin::kChunkTriangles;
@@ -319,7 +328,10 @@ void Renderer::Impl::reserve(const FrameReserve& r) {
       bin::Chunk& c = chunks[i];
       touch_capacity(c.tris, bin::kChunkTriangles);
       touch_capacity(c.planes, bin::kChunkTriangles * kReservedPlanesPerTriangle);
-      touch_capacity(c.offsets, static_cast<std::size_t>(grid.count()) + 1);
+      if (c.slot.size() < static_cast<std::size_t>(grid.count()))
+        c.slot.resize(static_cast<std::size_t>(grid.count()));
+      touch_capacity(c.tiles, static_cast<std::size_t>(grid.count()));
+      touch_capacity(c.starts, static_cast<std::size_t>(grid.count()) + 1);
       touch_capacity(c.indices, bin::kChunkTriangles * kReservedTilesPerTriangle);
       touch_capacity(c.pairs, bin::kChunkTriangles * kReservedTilesPerTriangle);
     }));
@@ -487,6 +499,20 @@ std::span<const front::VertexCache> Renderer::Impl::project_vertices(const Frame
   return {vertex_caches.data(), frame.draws.size()};
 }
 
+// Bins the chunks again on `grid`, in parallel, and indexes them; returns the pairs binned.
+std::uint64_t Renderer::Impl::rebin(std::span<bin::Chunk> binned, const bin::TileGrid& grid) {
+  tbb::combinable<std::uint64_t> pairs;
+  parallel::StageEdges edges;
+  arena->execute(edges.task([&] {
+    tbb::parallel_for(std::size_t{0}, binned.size(), edges.task([&](std::size_t i) {
+      pairs.local() += bin::bin_chunk(binned[i], grid);
+    }));
+  }));
+  edges.join();
+  tile_chunks.build(binned, grid.count());
+  return pairs.combine(std::plus<>());
+}
+
 FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
@@ -494,9 +520,15 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   stats.isa = isa;
   stats.threads = threads;
   const int W = target.width(), H = target.height(), S = target.samples();
-  const int tile_size = options.tile_size ? options.tile_size : raster::tile_size_for(S);
-  stats.tile_size = tile_size;
-  const bin::TileGrid grid(W, H, tile_size);
+  // The automatic tile size: by sample count, split into kSplitTileSize tiles for a frame whose
+  // triangles reach fewer than kFewBusyTiles of those. A renderer that split its last frame of
+  // this size bins the next on the split tiles first, since frames of a sequence look alike.
+  const bin::TileGrid coarse(W, H, raster::tile_size_for(S));
+  const bool split_last = last_split == std::tuple{W, H, S};
+  bin::TileGrid grid(W, H,
+                     options.tile_size ? options.tile_size
+                     : split_last      ? bin::kSplitTileSize
+                                       : coarse.size);
 
   // Draw state per draw; the painter's algorithm turns the depth test off everywhere. The
   // buffers the frame uses: colour if a draw writes it (or the target keeps it per sample),
@@ -578,22 +610,34 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   }
   start_loaded_samples(frame, target);
   stats.triangles_binned = binned.combine(std::plus<>());
-  const auto t2 = Clock::now();
+  const auto t_binned = Clock::now();
   const double setup_share = setup_thread_ms.combine(std::plus<>()),
                binning_share = binning_thread_ms.combine(std::plus<>());
-  const double ms_binning =
+  double ms_binning =
       setup_share + binning_share > 0
-          ? ms_between(t_front, t2) * binning_share / (setup_share + binning_share)
+          ? ms_between(t_front, t_binned) * binning_share / (setup_share + binning_share)
           : 0.0;
+  const std::span<const bin::Chunk> binned_chunks(chunks.data(), nchunks);
+  tile_chunks.build(binned_chunks, grid.count());
+  if (options.tile_size == 0 && coarse.size > bin::kSplitTileSize) {
+    const int busy = grid.size == coarse.size ? tile_chunks.busy_tiles()
+                                              : tile_chunks.busy_tiles_on(grid, coarse);
+    const int wanted = busy < bin::kFewBusyTiles ? bin::kSplitTileSize : coarse.size;
+    if (wanted != grid.size) {
+      grid = bin::TileGrid(W, H, wanted);
+      stats.triangles_binned = rebin({chunks.data(), nchunks}, grid);
+      ms_binning += ms_between(t_binned, Clock::now());
+    }
+    last_split = grid.size == bin::kSplitTileSize ? std::tuple{W, H, S} : std::tuple{0, 0, 0};
+  }
+  stats.tile_size = grid.size;
+  const auto t2 = Clock::now();
 
   // Stage 4: tiles, busiest first so the longest tile starts early; one worker owns a tile
   // from clear to resolve.
   tile_order.clear();
-  for (int t = 0; t < grid.count(); ++t) {
-    std::uint64_t n = 0;
-    for (std::size_t c = 0; c < nchunks; ++c) n += chunks[c].offsets[t + 1] - chunks[c].offsets[t];
-    tile_order.push_back({n, t});
-  }
+  for (int t = 0; t < grid.count(); ++t)
+    tile_order.push_back({tile_chunks.triangles(binned_chunks, t), t});
   std::sort(tile_order.begin(), tile_order.end(), [](const auto& a, const auto& b) {
     return a.first > b.first || (a.first == b.first && a.second < b.second);
   });
@@ -604,7 +648,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   tf.shading = shading;
   tf.samples = S;
   tf.ssaa = frame.ssaa;
-  tf.tile_size = tile_size;
+  tf.tile_size = grid.size;
   tf.clear_color = target.clear_color();
   tf.clear_depth = target.clear_depth();
   tf.width = W;
@@ -641,23 +685,47 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   }
   tbb::combinable<raster::TileStats> tile_stats;
   if (record) stats.tile_costs.assign(static_cast<std::size_t>(grid.count()), {});
+  // A task per tile with triangles, then the empty tiles (last in tile_order) in groups: their
+  // work is a few row writes, which a task of its own would cost as much as.
+  const auto busy = static_cast<std::size_t>(tile_chunks.busy_tiles());
+  const std::size_t empty_tasks =
+      (tile_order.size() - busy + kEmptyTilesPerTask - 1) / kEmptyTilesPerTask;
+  const auto tiles_of_task = [&](std::size_t i) {
+    if (i < busy) return std::pair{i, i + 1};
+    const std::size_t first = busy + (i - busy) * kEmptyTilesPerTask;
+    return std::pair{first, std::min(tile_order.size(), first + kEmptyTilesPerTask)};
+  };
+  // Without loads, the kernel writes an empty tile's clear values straight to the outputs, and
+  // takes a rectangle of several tiles of a row at once (not when each tile's cost is recorded).
+  const bool merge_empty = !tf.load_color && !tf.load_depth && !record;
   parallel::StageEdges tile_edges;
   arena->execute(tile_edges.task([&] {
     tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, tile_order.size(), 1),
-        tile_edges.task([&](const tbb::blocked_range<std::size_t>& r) {
+        tbb::blocked_range<std::size_t>(0, busy + empty_tasks, 1),
+        tile_edges.task([&](const tbb::blocked_range<std::size_t>& tasks) {
           Worker& worker =
               *workers[static_cast<std::size_t>(tbb::this_task_arena::current_thread_index())];
           const parallel::SlotHold hold(&worker);
           raster::TileScratch& sc = worker.scratch;
           std::vector<raster::BinRun>& bin = worker.runs;
           raster::TileStats& ts = tile_stats.local();
-          for (std::size_t k = r.begin(); k != r.end(); ++k) {
+          const std::size_t k0 = tiles_of_task(tasks.begin()).first;
+          const std::size_t k1 = tiles_of_task(tasks.end() - 1).second;
+          for (std::size_t k = k0; k != k1; ++k) {
             const int t = tile_order[k].second;
             bin.clear();
-            for (std::size_t c = 0; c < nchunks; ++c) bin::append_runs(chunks[c], t, bin);
+            for (const bin::TileChunks::Entry& e : tile_chunks.of(t))
+              bin::append_runs(chunks[e.chunk], e.bin, bin);
             const auto c0 = record ? Clock::now() : Clock::time_point{};
-            const raster::TileRect rect = grid.rect(t);
+            raster::TileRect rect = grid.rect(t);
+            if (merge_empty && k >= busy) {
+              // Empty tiles next in the same tile row, up to kMaxTileSize wide: one write.
+              while (k + 1 != k1 && tile_order[k + 1].second == tile_order[k].second + 1 &&
+                     tile_order[k + 1].second % grid.tiles_x != 0 &&
+                     rect.width + grid.size <= raster::kMaxTileSize) {
+                rect.width += grid.rect(tile_order[++k].second).width;
+              }
+            }
             kernel(tf, rect, bin, sc, ts);
             if (record)
               stats.tile_costs[t] = {rect.x0,

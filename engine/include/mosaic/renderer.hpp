@@ -121,9 +121,9 @@ struct RendererOptions {
   /// clock reads per tile (chunks are timed anyway, for ms_setup and ms_binning); off by default.
   bool record_costs = false;
   /// Screen tile edge of the fast path in pixels: a power of two from kMinTileSize to
-  /// kMaxTileSize, or 0 to let the renderer choose by the target's sample count (128 px up to 4
-  /// samples, 64 px beyond: README, "Scaling past two cores"). Only speed depends on it, never
-  /// the image.
+  /// kMaxTileSize, or 0 to let the renderer choose: by the target's sample count (128 px up to 4
+  /// samples, 64 px beyond), and 32 px for a frame whose triangles reach fewer than 16 of those
+  /// (README, "Scaling past two cores"). Only speed depends on it, never the image.
   int tile_size = 0;
 };
 

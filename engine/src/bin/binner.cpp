@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <utility>
 
 namespace mosaic::bin {
 
@@ -33,9 +34,12 @@ bool edges_touch(const front::TriangleSetup& t, int tx, int ty, std::int64_t spa
 }  // namespace
 
 std::uint64_t bin_chunk(Chunk& c, const TileGrid& grid) {
-  const int tiles = grid.count();
-  c.offsets.assign(static_cast<std::size_t>(tiles) + 1, 0);
+  // Grows with zeros; every entry is 0 again when this returns.
+  if (c.slot.size() < static_cast<std::size_t>(grid.count()))
+    c.slot.resize(static_cast<std::size_t>(grid.count()));
   c.pairs.clear();
+  c.tiles.clear();
+  c.starts.clear();              // the bins' counts until the prefix sum below
   const int shift = grid.shift;  // (boxes are inside the image: never negative)
   const std::int64_t span = std::int64_t{grid.size} * front::kSubpixelOne;
   for (std::uint32_t i = 0; i < c.tris.size(); ++i) {
@@ -47,23 +51,71 @@ std::uint64_t bin_chunk(Chunk& c, const TileGrid& grid) {
       for (int tx = tx0; tx <= tx1; ++tx) {
         if (!single && !edges_touch(t, tx, ty, span)) continue;
         const std::uint32_t tile = static_cast<std::uint32_t>(ty * grid.tiles_x + tx);
-        c.pairs.push_back(std::uint64_t{tile} << 32 | i);
-        ++c.offsets[tile + 1];
+        std::uint32_t& slot = c.slot[tile];
+        if (slot == 0) {
+          c.tiles.push_back(tile);
+          c.starts.push_back(0);
+          slot = static_cast<std::uint32_t>(c.tiles.size());
+        }
+        ++c.starts[slot - 1];
+        c.pairs.push_back(std::uint64_t{slot - 1} << 32 | i);
       }
     }
   }
-  for (int t = 0; t < tiles; ++t) c.offsets[t + 1] += c.offsets[t];
-  // Counting sort by tile; pairs are produced in triangle order, so each bin stays in order.
+  for (const std::uint32_t tile : c.tiles) c.slot[tile] = 0;
+  // Counts to starts (exclusive prefix sum), one more for the end.
+  std::uint32_t sum = 0;
+  for (std::uint32_t& n : c.starts) sum += std::exchange(n, sum);
+  c.starts.push_back(sum);
+  // Counting sort by bin; pairs are produced in triangle order, so each bin stays in order.
   c.indices.resize(c.pairs.size());
-  std::vector<std::uint32_t>& cursor = c.offsets;  // reused below, then restored
+  std::vector<std::uint32_t>& cursor = c.starts;  // reused below, then restored
   for (const std::uint64_t p : c.pairs) {
-    const std::uint32_t tile = static_cast<std::uint32_t>(p >> 32);
-    c.indices[cursor[tile]++] = static_cast<std::uint32_t>(p);
+    const auto j = static_cast<std::uint32_t>(p >> 32);
+    c.indices[cursor[j]++] = static_cast<std::uint32_t>(p);
   }
-  // After the scatter, cursor[t] is the end of bin t: shift back to get the starts.
-  for (int t = tiles; t > 0; --t) c.offsets[t] = c.offsets[t - 1];
-  c.offsets[0] = 0;
+  // After the scatter, cursor[j] is the end of bin j: shift back to get the starts.
+  for (std::size_t j = c.tiles.size(); j > 0; --j) c.starts[j] = c.starts[j - 1];
+  c.starts[0] = 0;
   return c.pairs.size();
+}
+
+void TileChunks::build(std::span<const Chunk> chunks, int tiles) {
+  first_.assign(static_cast<std::size_t>(tiles) + 1, 0);
+  for (const Chunk& c : chunks)
+    for (const std::uint32_t t : c.tiles) ++first_[t + 1];
+  busy_ = 0;
+  for (int t = 0; t < tiles; ++t) {
+    busy_ += first_[t + 1] != 0;
+    first_[t + 1] += first_[t];
+  }
+  // Chunks in order, each appended to its tiles' lists: every list is in chunk order.
+  entries_.resize(first_[tiles]);
+  for (std::uint32_t i = 0; i < chunks.size(); ++i)
+    for (std::uint32_t j = 0; j < chunks[i].tiles.size(); ++j)
+      entries_[first_[chunks[i].tiles[j]]++] = {i, j};
+  // After the scatter, first_[t] is the end of tile t's list: shift back to get the starts.
+  for (int t = tiles; t > 0; --t) first_[t] = first_[t - 1];
+  first_[0] = 0;
+}
+
+int TileChunks::busy_tiles_on(const TileGrid& grid, const TileGrid& coarse) const {
+  marks_.assign(static_cast<std::size_t>(coarse.count()), 0);
+  const int ratio = coarse.size / grid.size;
+  int busy = 0;
+  for (int t = 0; t < grid.count(); ++t) {
+    if (first_[t] == first_[t + 1]) continue;
+    const int c = (t / grid.tiles_x / ratio) * coarse.tiles_x + (t % grid.tiles_x) / ratio;
+    busy += marks_[c] == 0;
+    marks_[c] = 1;
+  }
+  return busy;
+}
+
+std::uint64_t TileChunks::triangles(std::span<const Chunk> chunks, int tile) const {
+  std::uint64_t n = 0;
+  for (const Entry& e : of(tile)) n += chunks[e.chunk].bin(e.bin).size();
+  return n;
 }
 
 void ChunkPlan::build(std::span<const std::uint32_t> draw_triangles,
@@ -108,8 +160,8 @@ std::uint32_t set_up_chunk(Chunk& chunk, std::span<const ChunkPiece> pieces,
   return triangles;
 }
 
-void append_runs(const Chunk& chunk, int tile, std::vector<raster::BinRun>& runs) {
-  const std::span<const std::uint32_t> bin = chunk.bin(tile);
+void append_runs(const Chunk& chunk, std::size_t j, std::vector<raster::BinRun>& runs) {
+  const std::span<const std::uint32_t> bin = chunk.bin(j);
   if (bin.empty()) return;
   const std::vector<DrawStart>& starts = chunk.draw_starts;
   if (starts.empty()) {

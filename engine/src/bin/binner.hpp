@@ -36,6 +36,13 @@ struct TileGrid {
   raster::TileRect rect(int tile) const;
 };
 
+/// A frame whose triangles land in fewer tiles than this (a mesh far away or small on screen) is
+/// binned again on tiles of kSplitTileSize, so that its tile work can spread over 16 cores.
+inline constexpr int kFewBusyTiles = 16;
+/// The finer tiles: 4×4 blocks. Smaller ones cost more than they spread: each triangle reaches
+/// more tiles, and each tile pays its run set-up and resolve.
+inline constexpr int kSplitTileSize = 32;
+
 /// Triangles per front-end chunk: large enough that a chunk's bookkeeping (a tile-offset table
 /// of tiles + 1 entries) is small next to its work, small enough that 100k triangles give
 /// dozens of chunks to balance over the workers.
@@ -71,19 +78,26 @@ struct DrawStart {
 };
 
 /// One chunk's triangles and bins. The vectors keep their capacity from frame to frame: after
-/// the first frames, a frame allocates nothing per triangle.
+/// the first frames, a frame allocates nothing per triangle. The bins are kept for the tiles
+/// that have triangles only, so that binning costs as much on a grid of many small tiles as on
+/// one of few.
 struct Chunk {
   std::vector<front::TriangleSetup> tris;
   /// Per piece, in order; empty when the chunk's triangles come from draws in any order (the
   /// painter's), whose runs then name each triangle's draw (raster::BinRun::kMixedDraws).
   std::vector<DrawStart> draw_starts;
   std::vector<front::Plane> planes;    ///< out-of-line planes: interpolated colours, varyings
-  std::vector<std::uint32_t> offsets;  ///< per tile: bin [offsets[t], offsets[t+1]) of indices
-  std::vector<std::uint32_t> indices;  ///< triangle indices into `tris`, grouped by tile
-  std::vector<std::uint64_t> pairs;    ///< scratch: (tile << 32 | triangle) before grouping
+  std::vector<std::uint32_t> tiles;    ///< the tiles with triangles, in the order first reached
+  std::vector<std::uint32_t> starts;   ///< bin j, of tiles[j], is [starts[j], starts[j + 1])
+  std::vector<std::uint32_t> indices;  ///< triangle indices into `tris`, grouped by bin
+  std::vector<std::uint64_t> pairs;    ///< scratch: (bin << 32 | triangle) before grouping
+  /// Scratch: per tile of the grid, 1 + its bin's index while binning, and 0 otherwise (between
+  /// binnings every entry is 0, so a binning clears only the entries it set).
+  std::vector<std::uint32_t> slot;
 
-  std::span<const std::uint32_t> bin(int tile) const {
-    return {indices.data() + offsets[tile], indices.data() + offsets[tile + 1]};
+  /// Bin j's triangle indices, in submission order.
+  std::span<const std::uint32_t> bin(std::size_t j) const {
+    return {indices.data() + starts[j], indices.data() + starts[j + 1]};
   }
 };
 
@@ -95,12 +109,43 @@ std::uint32_t set_up_chunk(Chunk& chunk, std::span<const ChunkPiece> pieces,
                            int height, int samples, front::FrontStats& stats,
                            std::span<const front::VertexCache> vertices = {});
 
-/// Appends the runs of `chunk`'s bin for `tile` to `runs`, one per draw, in order.
-void append_runs(const Chunk& chunk, int tile, std::vector<raster::BinRun>& runs);
+/// For every tile, the chunks with triangles in it and the index of its bin in each, in chunk
+/// order: a tile's reader visits only those, so that a frame's bookkeeping grows with the
+/// (chunk, tile) pairs that hold triangles, not with chunks × tiles (512 chunks of a 1 M-triangle
+/// mesh and 2,040 tiles of 32 px are a million pairs, nearly all empty).
+class TileChunks {
+ public:
+  /// A chunk and the index of a tile's bin in it.
+  struct Entry {
+    std::uint32_t chunk = 0, bin = 0;
+  };
+  /// Indexes `chunks` (binned on a grid of `tiles` tiles).
+  void build(std::span<const Chunk> chunks, int tiles);
+  std::span<const Entry> of(int tile) const {
+    return {entries_.data() + first_[tile], entries_.data() + first_[tile + 1]};
+  }
+  /// The triangles binned into `tile`, over every chunk.
+  std::uint64_t triangles(std::span<const Chunk> chunks, int tile) const;
+  /// Tiles with at least one triangle.
+  int busy_tiles() const { return busy_; }
+  /// Tiles of `coarse` that hold a busy tile of `grid`, a finer grid of the same image whose
+  /// tiles nest in them. (At most the busy tiles binning on `coarse` would find: a triangle's
+  /// conservative edge test may pass a tile and none of the tiles nested in it.)
+  int busy_tiles_on(const TileGrid& grid, const TileGrid& coarse) const;
 
-/// Bins `chunk.tris` into `chunk.offsets` / `chunk.indices`, and returns the number of (triangle,
-/// tile) pairs. A triangle whose bounding box spans several tiles goes only to the tiles that its
-/// three edges do not trivially reject. (Setup has culled those that cover no sample.)
+ private:
+  std::vector<std::uint32_t> first_;  ///< tile t's entries are [first_[t], first_[t + 1])
+  std::vector<Entry> entries_;        ///< grouped by tile
+  int busy_ = 0;
+  mutable std::vector<std::uint8_t> marks_;  ///< scratch of busy_tiles_on()
+};
+
+/// Appends the runs of `chunk`'s bin j to `runs`, one per draw, in order.
+void append_runs(const Chunk& chunk, std::size_t j, std::vector<raster::BinRun>& runs);
+
+/// Bins `chunk.tris` into `chunk.tiles` / `starts` / `indices`, and returns the number of
+/// (triangle, tile) pairs. A triangle whose bounding box spans several tiles goes only to the tiles
+/// that its three edges do not trivially reject. (Setup has culled those that cover no sample.)
 std::uint64_t bin_chunk(Chunk& chunk, const TileGrid& grid);
 
 }  // namespace mosaic::bin

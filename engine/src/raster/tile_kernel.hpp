@@ -1047,7 +1047,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,
                   TileScratch& sc, TileStats& st) {
     // A tile no triangle reaches that loads nothing holds only the clear values: they go to the
-    // outputs directly, without clearing and resolving its samples.
+    // outputs directly, without clearing and resolving its samples. (Such a "tile" may be a row
+    // of empty tiles, up to kMaxTileSize wide: the tile stage merges them.)
     if (bin.empty() && !f.load_color && !f.load_depth) {
       const auto r0 = std::chrono::steady_clock::now();
       resolve::write_clear_tile(f, tile);
