@@ -620,9 +620,9 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   const std::span<const bin::Chunk> binned_chunks(chunks.data(), nchunks);
   tile_chunks.build(binned_chunks, grid.count());
   if (options.tile_size == 0 && coarse.size > bin::kSplitTileSize) {
-    const int busy = grid.size == coarse.size ? tile_chunks.busy_tiles()
-                                              : tile_chunks.busy_tiles_on(grid, coarse);
-    const int wanted = busy < bin::kFewBusyTiles ? bin::kSplitTileSize : coarse.size;
+    const int coarse_busy = grid.size == coarse.size ? tile_chunks.busy_tiles()
+                                                     : tile_chunks.busy_tiles_on(grid, coarse);
+    const int wanted = coarse_busy < bin::kFewBusyTiles ? bin::kSplitTileSize : coarse.size;
     if (wanted != grid.size) {
       grid = bin::TileGrid(W, H, wanted);
       stats.triangles_binned = rebin({chunks.data(), nchunks}, grid);
@@ -687,12 +687,12 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   if (record) stats.tile_costs.assign(static_cast<std::size_t>(grid.count()), {});
   // A task per tile with triangles, then the empty tiles (last in tile_order) in groups: their
   // work is a few row writes, which a task of its own would cost as much as.
-  const auto busy = static_cast<std::size_t>(tile_chunks.busy_tiles());
+  const auto busy_tiles = static_cast<std::size_t>(tile_chunks.busy_tiles());
   const std::size_t empty_tasks =
-      (tile_order.size() - busy + kEmptyTilesPerTask - 1) / kEmptyTilesPerTask;
+      (tile_order.size() - busy_tiles + kEmptyTilesPerTask - 1) / kEmptyTilesPerTask;
   const auto tiles_of_task = [&](std::size_t i) {
-    if (i < busy) return std::pair{i, i + 1};
-    const std::size_t first = busy + (i - busy) * kEmptyTilesPerTask;
+    if (i < busy_tiles) return std::pair{i, i + 1};
+    const std::size_t first = busy_tiles + (i - busy_tiles) * kEmptyTilesPerTask;
     return std::pair{first, std::min(tile_order.size(), first + kEmptyTilesPerTask)};
   };
   // Without loads, the kernel writes an empty tile's clear values straight to the outputs, and
@@ -701,7 +701,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
   parallel::StageEdges tile_edges;
   arena->execute(tile_edges.task([&] {
     tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, busy + empty_tasks, 1),
+        tbb::blocked_range<std::size_t>(0, busy_tiles + empty_tasks, 1),
         tile_edges.task([&](const tbb::blocked_range<std::size_t>& tasks) {
           Worker& worker =
               *workers[static_cast<std::size_t>(tbb::this_task_arena::current_thread_index())];
@@ -718,7 +718,7 @@ FrameStats Renderer::Impl::render_fast(const Frame& frame, RenderTarget& target)
               bin::append_runs(chunks[e.chunk], e.bin, bin);
             const auto c0 = record ? Clock::now() : Clock::time_point{};
             raster::TileRect rect = grid.rect(t);
-            if (merge_empty && k >= busy) {
+            if (merge_empty && k >= busy_tiles) {
               // Empty tiles next in the same tile row, up to kMaxTileSize wide: one write.
               while (k + 1 != k1 && tile_order[k + 1].second == tile_order[k].second + 1 &&
                      tile_order[k + 1].second % grid.tiles_x != 0 &&

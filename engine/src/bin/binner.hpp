@@ -1,10 +1,11 @@
 // bin/binner.hpp — sorting triangles into screen tiles.
 //
 // Takes: one chunk of set-up triangles (in submission order) and the tile grid. Gives: for every
-// tile, the indices of the chunk's triangles that may cover a sample in it, in submission order
-// (a CSR table: offsets per tile into one index array). Each chunk is binned by one thread into
-// its own table; tile workers read the chunks' tables in chunk order, which merges the bins in
-// submission order without copying — so the image never depends on the thread count.
+// tile the chunk reaches, the indices of its triangles that may cover a sample there, in
+// submission order (a CSR table over the tiles reached). Each chunk is binned by one thread into
+// its own table; TileChunks lists each tile's chunks, and tile workers read those chunks' bins in
+// chunk order, which merges them in submission order without copying — so the image never
+// depends on the thread count.
 #pragma once
 
 #include <bit>
