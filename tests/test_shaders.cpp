@@ -559,10 +559,12 @@ TEST(Shaders, PainterSortedTranslucentShadedDrawsMatchTheReference) {
 //    fills past 16 entries, and must blend, or overwrite when the draws do not blend, in order);
 //  - a flat-colour draw between two shaded ones (the queue is written before the next draw);
 //  - a triangle over a whole block and queued pixels, in the same draw (whole batches after
-//    partial ones).
-// Colour is a non-linear function of the varyings, so a pixel given another's lane shows. Every
-// ISA, sample count, SSAA, the painter's order, 1 and 2 threads and two tile sizes, against the
-// reference.
+//    partial ones);
+//  - a sliver across a dozen blocks: one triangle's queued pixels fill several calls, and its
+//    varyings are made for its pixels of many blocks at once.
+// Colour is a non-linear function of the varyings and of the facing (the stacked triangles
+// face either way), so a pixel given another's lane shows. Every ISA, sample count, SSAA, the
+// painter's order, 1 and 2 threads and two tile sizes, against the reference.
 TEST(Shaders, PackedBatchesMatchTheReferenceAtTheirThresholds) {
   constexpr int kW = 48, kH = 40;
   std::vector<glm::vec4> pos;
@@ -582,6 +584,9 @@ TEST(Shaders, PackedBatchesMatchTheReferenceAtTheirThresholds) {
   rect(8, 8, 16, 10, 0.5f);  // rows 0-1 of block (1, 1): a whole batch
   rect(24, 8, 32, 9, 0.5f);  // 8 + 7 pixels of block (3, 1)'s first batch
   rect(24, 9, 31, 10, 0.5f);
+  vertex(1.3f, 33.6f, 0.4f, 0.2f, 0.9f);  // the sliver, about 1.5 px wide
+  vertex(46.2f, 2.7f, 0.4f, 3.1f, 0.1f);
+  vertex(46.9f, 4.4f, 0.4f, 2.7f, 2.3f);
   const auto first_draw = static_cast<std::uint32_t>(pos.size());
   std::uint32_t seed = 7;
   const auto next = [&] {
@@ -607,8 +612,8 @@ TEST(Shaders, PackedBatchesMatchTheReferenceAtTheirThresholds) {
   const Shader wavy = make_shader(
       [](const Fragment& f) {
         const float a = f.varying(0), b = f.varying(1);
-        return glm::vec4(a * a - std::floor(a * a), b - std::floor(b), f.varying(2),
-                         0.3f + 0.1f * a);
+        return glm::vec4(a * a - std::floor(a * a), b - std::floor(b),
+                         f.front_facing() ? f.varying(2) : 1.0f - f.varying(2), 0.3f + 0.1f * a);
       },
       3);
   const auto shaded = [&](std::size_t first, std::size_t count, bool blend) {
@@ -647,7 +652,8 @@ TEST(Shaders, PackedBatchesMatchTheReferenceAtTheirThresholds) {
   for (const bool blend : {true, false}) {
     const std::vector<Draw> these = scene(blend);
     for (const bool painter : {false, true}) {
-      for (const Mode m : {Mode{1, false}, Mode{4, false}, Mode{4, true}, Mode{16, false}}) {
+      for (const Mode m :
+           {Mode{1, false}, Mode{4, false}, Mode{4, true}, Mode{8, false}, Mode{16, false}}) {
         const Image ref = render(these, kW, kH, m.samples, m.ssaa, Isa::kReference, 1, painter);
         for (const Isa isa : simd_isas())
           for (const int threads : {1, 2})

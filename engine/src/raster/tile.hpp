@@ -128,8 +128,13 @@ struct TileScratch {
   };
   static constexpr std::size_t kValues =
       std::size_t{kMaxBlocksPerTile} * kMaxSamples * kBlockPixels;
+  /// color[kSpareColor], past the samples, takes the stores of a branch-free masked write that
+  /// must leave its sample as it is (the SIMD shading's write_masked()); nothing reads it.
+  static constexpr std::size_t kSpareColor = kValues;
+  /// The colour array's length: the samples, then a line that holds the spare word.
+  static constexpr std::size_t kColorValues = kValues + 64 / sizeof(std::uint32_t);
   std::unique_ptr<std::uint32_t[], Free> color{
-      static_cast<std::uint32_t*>(std::aligned_alloc(64, kValues * sizeof(std::uint32_t)))};
+      static_cast<std::uint32_t*>(std::aligned_alloc(64, kColorValues * sizeof(std::uint32_t)))};
   std::unique_ptr<float[], Free> depth{
       static_cast<float*>(std::aligned_alloc(64, kValues * sizeof(float)))};
   alignas(64) float zmin[kMaxBlocksPerTile];  ///< hierarchical z: nearest depth in the block

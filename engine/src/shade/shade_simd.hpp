@@ -39,6 +39,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     F ox[raster::kMaxSamples], oy[raster::kMaxSamples];
     float oxs[raster::kMaxSamples], oys[raster::kMaxSamples];  ///< ox, oy as scalars
     I pixel[kVectors];  ///< each vector's pixel indices in the block: v * L + lane
+    I lane;             ///< each lane's index
     I lane_bit;         ///< 1 << lane: a lane's bit in a coverage word shifted by v * L
     const front::Plane* planes = nullptr;
   };
@@ -47,10 +48,13 @@ struct ShadeSimd : simd::LaneTypes<A> {
   /// gathered from any triangles and blocks of a tile, so that a call shades up to kShaderBatch
   /// of them: a small triangle covers a few lanes of a block's batch, and a call costs the whole
   /// batch. Entries are appended a vector at a time, packed, in the order they were queued, so
-  /// draw order and blending hold; the rows are two batches long, so that an append that fills
-  /// the batch keeps its overflow for the next call.
+  /// draw order and blending hold. The rows hold two batches, so that an append that fills the
+  /// batch keeps its overflow for the next call, and a third for the lanes past the last entry
+  /// that the varyings' last vector computes.
+  /// A triangle's varyings are made once for all its entries, when the next triangle appends
+  /// or a batch is shaded (complete()), so that its pixels in several blocks share vectors.
   struct ShadeQueue {
-    static constexpr int kRow = 2 * kShaderBatch;
+    static constexpr int kRow = 3 * kShaderBatch;
     alignas(64) float x[kRow]{}, y[kRow]{};  ///< each entry's shading position
     alignas(64) float varying[kMaxVaryings][kRow];
     alignas(64) float ddx[kMaxVaryings][kRow], ddy[kMaxVaryings][kRow];
@@ -64,6 +68,11 @@ struct ShadeSimd : simd::LaneTypes<A> {
     const DrawShading* shading = nullptr;  ///< the draw of every entry queued
     bool blend = false;                    ///< whether that draw blends
     int span = 1;  ///< samples an entry may write: the draw's count (MSAA), or 1 (SSAA)
+    /// The triangle of entries pending..n-1, whose varyings and facing are not made yet, and
+    /// the plane array its planes_base indexes.
+    const front::TriangleSetup* triangle = nullptr;
+    const front::Plane* planes = nullptr;
+    int pending = 0;
   };
 
   static std::int32_t bits_of(Rgba8 c) { return std::bit_cast<std::int32_t>(c); }
@@ -197,35 +206,43 @@ struct ShadeSimd : simd::LaneTypes<A> {
   }
 
   /// Appends the lanes set in `lanes` of one vector to the queue, packed: shading positions
-  /// (x, y), each entry's first colour sample and the samples it writes. Their varyings are
-  /// made afterwards (append_varyings()). The queue must hold fewer than kShaderBatch entries
-  /// before a block's batch is appended (its rows have room for a whole batch more). `front` is
-  /// nonzero if the triangle faces the viewer. The lanes past the packed ones are overwritten by
-  /// the next append, or zeroed by flush().
-  static void append(ShadeQueue& q, std::uint32_t lanes, F x, F y, I color, I samples,
-                     std::uint32_t front) {
+  /// (x, y), each entry's first colour sample and the samples it writes; complete() makes their
+  /// varyings. The queue must hold fewer than kShaderBatch entries before a vector's or a
+  /// batch's appends (its rows have room for a batch more). The lanes past the packed ones are
+  /// overwritten by the next append, or zeroed by flush().
+  static void append(ShadeQueue& q, std::uint32_t lanes, F x, F y, I color, I samples) {
     const int n = q.n;
     M::compress(x, lanes).store_unaligned(q.x + n);
     M::compress(y, lanes).store_unaligned(q.y + n);
     M::compress(color, lanes).store_unaligned(q.color + n);
     M::compress(samples, lanes).store_unaligned(q.samples + n);
-    const int c = std::popcount(lanes);
-    q.front_facing |= (((std::uint64_t{1} << c) - 1) << n) & (front ? ~std::uint64_t{0} : 0);
-    q.n = n + c;
+    q.n = n + std::popcount(lanes);
   }
 
-  /// The varyings of triangle t at the positions of queue entries from..q.n, computed a vector of
-  /// packed entries at a time: a batch's few entries take one vector, not one per row they came
-  /// from. Each lane's values depend on its own position only, so they equal those computed at
-  /// the entry's own lane. (The lanes past q.n hold earlier entries' positions or zeros: finite.)
-  static void append_varyings(ShadeQueue& q, const front::TriangleSetup& t,
-                              const front::Plane* planes, int from) {
+  /// Makes the varyings and facing of the pending entries (q.pending..q.n-1), those of one
+  /// triangle, a vector of packed entries at a time: the triangle's few pixels in each block
+  /// share vectors. Each lane's values depend on its own position only, so they equal those
+  /// computed at the entry's own lane. (The lanes past q.n hold earlier entries' positions or
+  /// zeros: finite.)
+  static void complete(ShadeQueue& q) {
+    const int from = q.pending;
+    if (from >= q.n) return;
+    const front::TriangleSetup& t = *q.triangle;
     for (int at = from; at < q.n; at += L) {
       varyings(
-          t, planes, *q.shading, F::load_unaligned(q.x + at), F::load_unaligned(q.y + at),
+          t, q.planes, *q.shading, F::load_unaligned(q.x + at), F::load_unaligned(q.y + at),
           [&](float* row, F value) { value.store_unaligned(row + at); }, q.varying[0], q.ddx[0],
           q.ddy[0], ShadeQueue::kRow);
     }
+    q.front_facing |= (((std::uint64_t{1} << (q.n - from)) - 1) << from) & front_lanes(t);
+    q.pending = q.n;
+  }
+  /// Makes triangle t the one whose entries are appended next.
+  static void begin(ShadeQueue& q, const front::TriangleSetup& t, const front::Plane* planes) {
+    if (q.triangle == &t && q.planes == planes) return;
+    complete(q);
+    q.triangle = &t;
+    q.planes = planes;
   }
 
   /// Shades the first kShaderBatch queued entries (or all, if fewer) in one call, the lanes past
@@ -233,6 +250,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
   /// draw blends. Entries past the batch move to the front.
   static void flush(ShadeQueue& q) {
     if (q.n == 0) return;
+    complete(q);
     const int n = std::min(q.n, kShaderBatch);
     const DrawShading& sh = *q.shading;
     ShaderInput in;
@@ -266,6 +284,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     // The overflow of the last append (fewer than kShaderBatch entries) to the front.
     const int rest = q.n - n;
     q.n = rest;
+    q.pending = rest;
     q.front_facing >>= n;
     if (rest == 0) return;
     const auto move = [&](float* row) {
@@ -299,39 +318,39 @@ struct ShadeSimd : simd::LaneTypes<A> {
       }
     }
   }
-  // The same without blending: every sample an entry may write is rewritten, with its old value
-  // where it did not pass (by arithmetic, so that the compiler makes no branch of it).
+  // The same without blending: each entry's colour is stored to each sample it passed, and to
+  // the tile's spare word for each it did not, so that no store waits on a load or a branch.
+  // The stores keep queue order, so a later entry wins a sample two entries write.
   static void write_masked(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
     alignas(64) std::int32_t c[kShaderBatch];
+    alignas(64) std::int32_t at[raster::kMaxSamples][kShaderBatch];  // sample k's word, or spare
     for (int j = 0; j < kBatchVectors; ++j) packed[j].store_aligned(c + j * L);
-    if (q.span == 4) {
-      // The common count: each sample's keep masks (all ones where it did not pass) made in
-      // lanes, then four plain merges per entry.
-      alignas(64) std::int32_t keep[4][kShaderBatch];
+    const auto words = [&](int span) {
+      const I spare(static_cast<std::int32_t>(raster::TileScratch::kSpareColor));
       for (int j = 0; j < kBatchVectors; ++j) {
+        const I first = I::load_aligned(q.color + j * L);
         const I bits = I::load_aligned(q.samples + j * L);
-        for (int k = 0; k < 4; ++k) (((bits >> k) & I(1)) - I(1)).store_aligned(keep[k] + j * L);
-      }
-      for (int l = 0; l < n; ++l) {
-        std::uint32_t* first = q.color_base + q.color[l];
-        const auto src = static_cast<std::uint32_t>(c[l]);
-        for (int k = 0; k < 4; ++k) {
-          std::uint32_t* word = first + k * kBlockPixels;
-          *word = src ^ ((src ^ *word) & static_cast<std::uint32_t>(keep[k][l]));
+        for (int k = 0; k < span; ++k) {
+          const auto passed = (bits & I(1 << k)) != I(0);
+          xsimd::select(passed, first + I(k * kBlockPixels), spare).store_aligned(at[k] + j * L);
         }
+      }
+    };
+    std::uint32_t* base = q.color_base;
+    if (q.span == 4) {  // the common count, unrolled
+      words(4);
+      for (int l = 0; l < n; ++l) {
+        const auto src = static_cast<std::uint32_t>(c[l]);
+        base[at[0][l]] = src;
+        base[at[1][l]] = src;
+        base[at[2][l]] = src;
+        base[at[3][l]] = src;
       }
       return;
     }
-    for (int l = 0; l < n; ++l) {
-      std::uint32_t* first = q.color_base + q.color[l];
-      const auto src = static_cast<std::uint32_t>(c[l]);
-      const auto bits = static_cast<std::uint32_t>(q.samples[l]);
-      for (int k = 0; k < q.span; ++k) {
-        std::uint32_t* word = first + k * kBlockPixels;
-        const std::uint32_t keep = (bits >> k & 1u) - 1u;  // all ones where k did not pass
-        *word = src ^ ((src ^ *word) & keep);
-      }
-    }
+    words(q.span);
+    for (int l = 0; l < n; ++l)
+      for (int k = 0; k < q.span; ++k) base[at[k][l]] = static_cast<std::uint32_t>(c[l]);
   }
   // The same without blending, one scatter per sample index: the lanes' order keeps the queue's
   // where two entries write one sample, and no branch depends on how many samples passed.
@@ -354,44 +373,59 @@ struct ShadeSimd : simd::LaneTypes<A> {
     return count >= L ? kLaneBits : (1u << count) - 1;
   }
 
-  /// Per lane of block vector v, bit k set where sample k of its pixel passed. The common 4x
-  /// count is unrolled.
+  /// Per lane of block vector v, bit k set where sample k of its pixel passed.
   static I samples_passed(const Lanes& ln, const std::uint64_t* passed, int S, int v) {
-    const auto sample = [&](int k) {
-      // The lane's bit of the word is 0 or lane_bit > 0: min() with 1 makes it 0 or 1.
-      const I word(static_cast<std::int32_t>(passed[k] >> (v * L)));
-      return xsimd::min(word & ln.lane_bit, I(1)) << k;
+    const auto lanes = [&](int k) {
+      return static_cast<std::uint32_t>(passed[k] >> (v * L)) & kLaneBits;
     };
-    if (S == 4) return (sample(0) | sample(1)) | (sample(2) | sample(3));
+    if constexpr (L <= 8) {
+      if (S == 4) {
+        // The common count: byte k of one word holds sample k's lane bits. Each lane moves its
+        // bit to bit 0 of every byte, and a multiply by 0x01020408 sums byte k's bit into bit
+        // 24 + k (no byte exceeds 15, so nothing carries between them).
+        const std::uint32_t bytes = lanes(0) | lanes(1) << 8 | lanes(2) << 16 | lanes(3) << 24;
+        const I word(std::bit_cast<std::int32_t>(bytes));
+        return (((word >> ln.lane) & I(0x01010101)) * I(0x01020408)) >> 24;
+      }
+    }
     I samples(0);
-    for (int k = 0; k < S; ++k) samples = samples | sample(k);
+    for (int k = 0; k < S; ++k) {
+      // The lane's bit of the word is 0 or lane_bit > 0: min() with 1 makes it 0 or 1.
+      const I word(static_cast<std::int32_t>(lanes(k)));
+      samples = samples | (xsimd::min(word & ln.lane_bit, I(1)) << k);
+    }
     return samples;
   }
 
-  /// The partly covered batch g of a block, into the queue: each pixel with a passed sample, at
-  /// its centre with the samples that passed (MSAA), or, under SSAA, sample s of each pixel in
-  /// `bits` at the sample's position. `color` is the index of the block's first colour sample in
-  /// the queue's color_base.
-  static void enqueue_batch(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t, int g,
-                            bool ssaa, int S, int s, std::uint32_t bits, std::int32_t color,
-                            F fx_blk, F fy_blk, const std::uint64_t* passed) {
-    const std::uint32_t front = front_lanes(t);
-    const int from = q.n;
-    // Every vector of the batch is appended, empty ones too (they add no entry): whether a
-    // vector is empty is data, and a branch on it mispredicted more than the work costs.
+  /// A block's pixels in `pixels` (bit p: pixel p), into the queue: one entry each, at the
+  /// pixel centre with the samples that passed there. Only vectors with a pixel are appended.
+  /// `color` is the index of the block's first colour sample in the queue's color_base.
+  static void enqueue_pixels(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t, int S,
+                             std::uint64_t pixels, std::int32_t color, F fx_blk, F fy_blk,
+                             const std::uint64_t* passed) {
+    begin(q, t, ln.planes);
+    while (pixels) {
+      const int v = std::countr_zero(pixels) / L;
+      const auto lanes = static_cast<std::uint32_t>(pixels >> (v * L)) & kLaneBits;
+      pixels &= ~(std::uint64_t{kLaneBits} << (v * L));
+      append(q, lanes, (fx_blk + ln.colf[v]) + F(0.5f), (fy_blk + ln.rowf[v]) + F(0.5f),
+             I(color) + ln.pixel[v], samples_passed(ln, passed, S, v));
+      if (q.n >= kShaderBatch) flush(q);
+    }
+  }
+  /// Sample s of the pixels of a block's batch g set in `bits` (SSAA), into the queue at the
+  /// sample's position. Every vector of the batch is appended, empty ones too (they add no
+  /// entry): whether a vector is empty is data, and a branch on it mispredicted more than the
+  /// work costs.
+  static void enqueue_samples(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t, int g,
+                              int s, std::uint32_t bits, std::int32_t color, F fx_blk, F fy_blk) {
+    begin(q, t, ln.planes);
     for (int j = 0; j < kBatchVectors; ++j) {
       const std::uint32_t lanes = (bits >> (j * L)) & kLaneBits;
       const int v = g * kBatchVectors + j;
       const F x = fx_blk + ln.colf[v], y = fy_blk + ln.rowf[v];
-      if (ssaa) {
-        append(q, lanes, x + ln.ox[s], y + ln.oy[s], I(color + s * kBlockPixels) + ln.pixel[v],
-               I(1), front);
-      } else {
-        append(q, lanes, x + F(0.5f), y + F(0.5f), I(color) + ln.pixel[v],
-               samples_passed(ln, passed, S, v), front);
-      }
+      append(q, lanes, x + ln.ox[s], y + ln.oy[s], I(color + s * kBlockPixels) + ln.pixel[v], I(1));
     }
-    append_varyings(q, t, ln.planes, from);
     if (q.n >= kShaderBatch) flush(q);
   }
 
@@ -416,16 +450,28 @@ struct ShadeSimd : simd::LaneTypes<A> {
     const auto first = queued ? static_cast<std::int32_t>(cblk - q.color_base) : 0;
     // Pixels with a passed sample, once for the block: only their batches are visited.
     std::uint64_t any_pixel = 0;
-    for (int s = 0; s < S; ++s) any_pixel |= passed[s];
+    if (S == 4) {
+      any_pixel = (passed[0] | passed[1]) | (passed[2] | passed[3]);
+    } else {
+      for (int s = 0; s < S; ++s) any_pixel |= passed[s];
+    }
+    // A queued shader (MSAA) shades the batches it covers whole at once, and queues the pixels
+    // of the others: found without a branch, since most blocks of a small triangle have none.
+    std::uint64_t partial = 0;
+    if (queued && !ssaa) {
+      std::uint64_t whole = 0;
+      for (int g = 0; g < kBatches; ++g) {
+        const std::uint64_t batch = std::uint64_t{kBatchBits} << (g * kShaderBatch);
+        whole |= (any_pixel & batch) == batch ? batch : 0;
+      }
+      partial = any_pixel & ~whole;
+      any_pixel = whole;
+    }
     while (any_pixel) {
       const int g = std::countr_zero(any_pixel) / kShaderBatch;
       const int shift = g * kShaderBatch;
       const auto any = static_cast<std::uint32_t>(any_pixel >> shift) & kBatchBits;
       any_pixel &= ~(std::uint64_t{kBatchBits} << shift);
-      if (queued && !ssaa && any != kBatchBits) {
-        enqueue_batch(q, ln, t, g, false, S, 0, any, first, fx_blk, fy_blk, passed);
-        continue;
-      }
       if (queued && !ssaa) flush(q);
       I pixel[kBatchVectors];
       std::uint32_t dropped = 0;  // pixels (MSAA) the shader discarded
@@ -435,7 +481,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
         if (!bits) continue;
         if (queued && ssaa) {
           if (bits != kBatchBits) {
-            enqueue_batch(q, ln, t, g, true, S, s, bits, first, fx_blk, fy_blk, passed);
+            enqueue_samples(q, ln, t, g, s, bits, first, fx_blk, fy_blk);
             continue;
           }
           flush(q);
@@ -459,6 +505,9 @@ struct ShadeSimd : simd::LaneTypes<A> {
         }
       }
     }
+    // After the whole batches: the queue keeps the draw's order, and a triangle's pixels are
+    // distinct, so its own writes may come in any order.
+    if (partial) enqueue_pixels(q, ln, t, S, partial, first, fx_blk, fy_blk, passed);
   }
 };
 
