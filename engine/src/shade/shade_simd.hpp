@@ -39,8 +39,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     F ox[raster::kMaxSamples], oy[raster::kMaxSamples];
     float oxs[raster::kMaxSamples], oys[raster::kMaxSamples];  ///< ox, oy as scalars
     I pixel[kVectors];  ///< each vector's pixel indices in the block: v * L + lane
-    I lane;             ///< each lane's index
-    I lane_bit;         ///< 1 << lane: a lane's bit in a coverage word shifted by v * L
+    I lane;             ///< each lane's index: its bit in a coverage word shifted by v * L
     const front::Plane* planes = nullptr;
   };
 
@@ -390,9 +389,8 @@ struct ShadeSimd : simd::LaneTypes<A> {
     }
     I samples(0);
     for (int k = 0; k < S; ++k) {
-      // The lane's bit of the word is 0 or lane_bit > 0: min() with 1 makes it 0 or 1.
       const I word(static_cast<std::int32_t>(lanes(k)));
-      samples = samples | (xsimd::min(word & ln.lane_bit, I(1)) << k);
+      samples = samples | (((word >> ln.lane) & I(1)) << k);
     }
     return samples;
   }
