@@ -175,10 +175,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         const Kernel k = by_depth<ColorMode::kDiscarding, false, 0>(ds);
         return {k, k};
       }
-      const Kernel k =
-          f.samples == 4 && is_default_depth(ds)
-              ? kernel<KernelTraits<DepthTest::kLess, true, ColorMode::kGeneric, false, 4>>()
-              : by_depth<ColorMode::kGeneric, false, 0>(ds);
+      const Kernel k = generic_kernel(ds, f.samples);
       return {k, k};
     }
     const Kernel flat = by_samples<ColorMode::kFlat>(ds, f.samples);
@@ -194,6 +191,15 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     if (samples == 4 && is_default_depth(ds))
       return kernel<KernelTraits<DepthTest::kLess, true, kColor, false, 4>>();
     return by_depth<kColor, false, 0>(ds);
+  }
+  // A shaded draw's kernel: the default depth state's is specialised at one sample and at 4x,
+  // the sample counts whose per-sample loops then unroll; other states take the frame's count.
+  static Kernel generic_kernel(const DrawState& ds, int samples) {
+    if (is_default_depth(ds) && samples == 1)
+      return kernel<KernelTraits<DepthTest::kLess, true, ColorMode::kGeneric, false, 1>>();
+    if (is_default_depth(ds) && samples == 4)
+      return kernel<KernelTraits<DepthTest::kLess, true, ColorMode::kGeneric, false, 4>>();
+    return by_depth<ColorMode::kGeneric, false, 0>(ds);
   }
   static bool is_default_depth(const DrawState& ds) {
     return ds.depth_test == DepthTest::kLess && ds.depth_write;

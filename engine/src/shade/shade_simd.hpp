@@ -336,6 +336,10 @@ struct ShadeSimd : simd::LaneTypes<A> {
       }
     };
     std::uint32_t* base = q.color_base;
+    if (q.span == 1) {  // one sample: an entry is queued because its sample passed
+      for (int l = 0; l < n; ++l) base[q.color[l]] = static_cast<std::uint32_t>(c[l]);
+      return;
+    }
     if (q.span == 4) {  // the common count, unrolled
       words(4);
       for (int l = 0; l < n; ++l) {
@@ -377,6 +381,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     const auto lanes = [&](int k) {
       return static_cast<std::uint32_t>(passed[k] >> (v * L)) & kLaneBits;
     };
+    if (S == 1) return I(1);  // a queued pixel's one sample passed
     if constexpr (L <= 8) {
       if (S == 4) {
         // The common count: byte k of one word holds sample k's lane bits. Each lane moves its
@@ -448,7 +453,9 @@ struct ShadeSimd : simd::LaneTypes<A> {
     const auto first = queued ? static_cast<std::int32_t>(cblk - q.color_base) : 0;
     // Pixels with a passed sample, once for the block: only their batches are visited.
     std::uint64_t any_pixel = 0;
-    if (S == 4) {
+    if (S == 1) {
+      any_pixel = passed[0];
+    } else if (S == 4) {
       any_pixel = (passed[0] | passed[1]) | (passed[2] | passed[3]);
     } else {
       for (int s = 0; s < S; ++s) any_pixel |= passed[s];
