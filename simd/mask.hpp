@@ -40,6 +40,18 @@ inline constexpr std::array<std::array<std::uint8_t, 16>, 16> kCompress4 = [] {
   }
   return t;
 }();
+#if XSIMD_WITH_SSE4_1
+// The rows 4 * half .. 4 * half + 3 of four 8×8 bit masks (a byte a row), one 32-bit word a row:
+// byte k of row r's word is row r of words[k]. Bit c of byte k is then pixel (c, r) of mask k.
+inline __m128i row_words(const std::uint64_t* words, int half) {
+  const auto row_bytes = [&](int k) {
+    return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(words + k));
+  };
+  const __m128i w01 = _mm_unpacklo_epi8(row_bytes(0), row_bytes(1));  // rows' bytes of 0 and 1
+  const __m128i w23 = _mm_unpacklo_epi8(row_bytes(2), row_bytes(3));
+  return half == 0 ? _mm_unpacklo_epi16(w01, w23) : _mm_unpackhi_epi16(w01, w23);
+}
+#endif
 }  // namespace detail
 
 template <class A>
@@ -97,6 +109,17 @@ struct Mask<xsimd::avx512bw> {
   static void scatter(std::int32_t* base, const xsimd::batch<std::int32_t, A>& index,
                       const xsimd::batch<std::int32_t, A>& v, std::uint32_t b) {
     _mm512_mask_i32scatter_epi32(base, static_cast<__mmask16>(b), index, v, 4);
+  }
+  /// Per lane, bit k set where bit p of words[k] is (k < 4), p the lane's value in 0..63.
+  static xsimd::batch<std::int32_t, A> pixel_nibbles(const std::uint64_t* words,
+                                                     const xsimd::batch<std::int32_t, A>& p) {
+    const __m256i rows = _mm256_set_m128i(detail::row_words(words, 1), detail::row_words(words, 0));
+    const __m512i word =
+        _mm512_permutexvar_epi32(_mm512_srli_epi32(p, 3), _mm512_castsi256_si512(rows));
+    const __m512i bits =
+        _mm512_and_si512(_mm512_srlv_epi32(word, _mm512_and_si512(p, _mm512_set1_epi32(7))),
+                         _mm512_set1_epi32(0x01010101));
+    return _mm512_srli_epi32(_mm512_mullo_epi32(bits, _mm512_set1_epi32(0x01020408)), 24);
   }
 };
 #endif
@@ -156,6 +179,17 @@ struct Mask<xsimd::avx2> {
     return _mm256_permutevar8x32_epi32(v, compress_index(b));
   }
   static constexpr bool kScatter = false;  ///< AVX2 has gathers only
+  /// Per lane, bit k set where bit p of words[k] is (k < 4), p the lane's value in 0..63.
+  static xsimd::batch<std::int32_t, A> pixel_nibbles(const std::uint64_t* words,
+                                                     const xsimd::batch<std::int32_t, A>& p) {
+    const __m128i rows = detail::row_words(words, 0), rows_high = detail::row_words(words, 1);
+    const __m256i word =
+        _mm256_permutevar8x32_epi32(_mm256_set_m128i(rows_high, rows), _mm256_srli_epi32(p, 3));
+    const __m256i bits =
+        _mm256_and_si256(_mm256_srlv_epi32(word, _mm256_and_si256(p, _mm256_set1_epi32(7))),
+                         _mm256_set1_epi32(0x01010101));
+    return _mm256_srli_epi32(_mm256_mullo_epi32(bits, _mm256_set1_epi32(0x01020408)), 24);
+  }
 };
 #endif
 
@@ -206,6 +240,26 @@ struct Mask<xsimd::sse4_1> {
     return _mm_castsi128_ps(compress(xsimd::batch<std::int32_t, A>(_mm_castps_si128(v)), b));
   }
   static constexpr bool kScatter = false;
+  /// Per lane, bit k set where bit p of words[k] is (k < 4), p the lane's value in 0..63. SSE4.1
+  /// has no variable shift: a multiply by 1 << (7 - column) moves the column's bit to bit 7 of
+  /// each byte of the row's word.
+  static xsimd::batch<std::int32_t, A> pixel_nibbles(const std::uint64_t* words,
+                                                     const xsimd::batch<std::int32_t, A>& p) {
+    const __m128i row = _mm_srli_epi32(p, 3), col = _mm_and_si128(p, _mm_set1_epi32(7));
+    // Row r's word is dword r % 4 of the low or high rows: pshufb bytes 4 (r % 4) .. + 3.
+    const __m128i pick = _mm_add_epi32(
+        _mm_mullo_epi32(_mm_and_si128(row, _mm_set1_epi32(3)), _mm_set1_epi32(0x04040404)),
+        _mm_set1_epi32(0x03020100));
+    const __m128i word = _mm_blendv_epi8(_mm_shuffle_epi8(detail::row_words(words, 0), pick),
+                                         _mm_shuffle_epi8(detail::row_words(words, 1), pick),
+                                         _mm_cmpgt_epi32(row, _mm_set1_epi32(3)));
+    const __m128i powers = _mm_setr_epi8(-128, 64, 32, 16, 8, 4, 2, 1, 0, 0, 0, 0, 0, 0, 0, 0);
+    const __m128i multiplier =
+        _mm_shuffle_epi8(powers, _mm_or_si128(col, _mm_set1_epi32(static_cast<int>(0x80808000))));
+    const __m128i top = _mm_and_si128(_mm_mullo_epi32(word, multiplier),
+                                      _mm_set1_epi32(static_cast<int>(0x80808080)));
+    return _mm_srli_epi32(_mm_mullo_epi32(_mm_srli_epi32(top, 7), _mm_set1_epi32(0x01020408)), 24);
+  }
 };
 #endif
 

@@ -1,10 +1,10 @@
 // simd/mask.hpp and simd/records.hpp, the vocabulary every SIMD stage is written in, on each
 // instruction set this build compiles and this CPU runs, against scalar models: lane groups
-// holding a bit, sign bits, masks to and from lanes, rounding to float, compress, scatter, and
-// records (whole, or their first 16 bytes) transposed into lanes. The stages use these
-// at every block and batch, so an error here would show only as a wrong image somewhere; here
-// it shows as the helper and the input that broke. The helpers are compiled per set by
-// tests/isa/mask_probe.cpp.
+// holding a bit, sign bits, masks to and from lanes, rounding to float, compress, a pixel's bits
+// of four masks, scatter, and records (whole, or their first 16 bytes) transposed into lanes.
+// The stages use these at every block and batch, so an error here would show only as a wrong
+// image somewhere; here it shows as the helper and the input that broke. The helpers are
+// compiled per set by tests/isa/mask_probe.cpp.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -20,26 +20,27 @@
 
 #include "mosaic/mosaic.hpp"
 
-#define MOSAIC_DECLARE_PROBES(ns)                                                          \
-  namespace mosaic::simd::ns {                                                             \
-  int probe_lanes();                                                                       \
-  int probe_double_lanes();                                                                \
-  std::uint32_t probe_nonzero_groups(std::uint64_t m);                                     \
-  std::uint32_t probe_signs_int(const std::int32_t* v);                                    \
-  std::uint32_t probe_signs_double(const double* v);                                       \
-  std::uint32_t probe_int_mask(std::uint32_t b);                                           \
-  std::uint32_t probe_float_mask(std::uint32_t b);                                         \
-  std::uint32_t probe_double_less(const double* a, const double* b);                       \
-  void probe_to_float(const double* in, double* out);                                      \
-  void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out);     \
-  void probe_compress_float(const float* in, std::uint32_t b, float* out);                 \
-  bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v, \
-                     std::uint32_t b);                                                     \
-  void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,     \
-                     double* high);                                                        \
-  void probe_heads(const void* const* rows, std::uint32_t (*words)[16]);                   \
-  void probe_rows(const double* ints, const double* a, const double* b, const double* c,   \
-                  const double* d, const std::uint64_t (*more)[16], void* out);            \
+#define MOSAIC_DECLARE_PROBES(ns)                                                                 \
+  namespace mosaic::simd::ns {                                                                    \
+  int probe_lanes();                                                                              \
+  int probe_double_lanes();                                                                       \
+  std::uint32_t probe_nonzero_groups(std::uint64_t m);                                            \
+  std::uint32_t probe_signs_int(const std::int32_t* v);                                           \
+  std::uint32_t probe_signs_double(const double* v);                                              \
+  std::uint32_t probe_int_mask(std::uint32_t b);                                                  \
+  std::uint32_t probe_float_mask(std::uint32_t b);                                                \
+  std::uint32_t probe_double_less(const double* a, const double* b);                              \
+  void probe_to_float(const double* in, double* out);                                             \
+  void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out);            \
+  void probe_compress_float(const float* in, std::uint32_t b, float* out);                        \
+  void probe_pixel_nibbles(const std::uint64_t* words, const std::int32_t* p, std::int32_t* out); \
+  bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v,        \
+                     std::uint32_t b);                                                            \
+  void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,            \
+                     double* high);                                                               \
+  void probe_heads(const void* const* rows, std::uint32_t (*words)[16]);                          \
+  void probe_rows(const double* ints, const double* a, const double* b, const double* c,          \
+                  const double* d, const std::uint64_t (*more)[16], void* out);                   \
   }
 
 #if MOSAIC_PROBE_SSE41
@@ -69,6 +70,7 @@ struct Probe {
   void (*to_float)(const double*, double*);
   void (*compress_int)(const std::int32_t*, std::uint32_t, std::int32_t*);
   void (*compress_float)(const float*, std::uint32_t, float*);
+  void (*pixel_nibbles)(const std::uint64_t*, const std::int32_t*, std::int32_t*);
   bool (*scatter)(std::int32_t*, const std::int32_t*, const std::int32_t*, std::uint32_t);
   void (*columns)(const void* const*, std::uint64_t (*)[16], double*, double*);
   void (*heads)(const void* const*, std::uint32_t (*)[16]);
@@ -76,16 +78,16 @@ struct Probe {
                const std::uint64_t (*)[16], void*);
 };
 
-#define MOSAIC_PROBE(ns, isa)                                                        \
-  Probe {                                                                            \
-    isa, &mosaic::simd::ns::probe_lanes, &mosaic::simd::ns::probe_double_lanes,      \
-        &mosaic::simd::ns::probe_nonzero_groups, &mosaic::simd::ns::probe_signs_int, \
-        &mosaic::simd::ns::probe_signs_double, &mosaic::simd::ns::probe_int_mask,    \
-        &mosaic::simd::ns::probe_float_mask, &mosaic::simd::ns::probe_double_less,   \
-        &mosaic::simd::ns::probe_to_float, &mosaic::simd::ns::probe_compress_int,    \
-        &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_scatter,   \
-        &mosaic::simd::ns::probe_columns, &mosaic::simd::ns::probe_heads,            \
-        &mosaic::simd::ns::probe_rows                                                \
+#define MOSAIC_PROBE(ns, isa)                                                            \
+  Probe {                                                                                \
+    isa, &mosaic::simd::ns::probe_lanes, &mosaic::simd::ns::probe_double_lanes,          \
+        &mosaic::simd::ns::probe_nonzero_groups, &mosaic::simd::ns::probe_signs_int,     \
+        &mosaic::simd::ns::probe_signs_double, &mosaic::simd::ns::probe_int_mask,        \
+        &mosaic::simd::ns::probe_float_mask, &mosaic::simd::ns::probe_double_less,       \
+        &mosaic::simd::ns::probe_to_float, &mosaic::simd::ns::probe_compress_int,        \
+        &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_pixel_nibbles, \
+        &mosaic::simd::ns::probe_scatter, &mosaic::simd::ns::probe_columns,              \
+        &mosaic::simd::ns::probe_heads, &mosaic::simd::ns::probe_rows                    \
   }
 
 // The probes of every set this build compiles and this CPU runs.
@@ -280,6 +282,31 @@ TEST_F(SimdMask, CompressPacksTheMaskedLanesInOrder) {
         ASSERT_EQ(out[k], in[l]) << mosaic::to_string(p.isa) << " b=" << b << " lane " << k;
         ASSERT_EQ(fout[k], fin[l]) << mosaic::to_string(p.isa) << " b=" << b << " lane " << k;
         ++k;
+      }
+    }
+  }
+}
+
+// Lane l's bit k is bit p[l] of word k, for four 64-bit masks and any pixels 0..63 in any
+// order (a queue's pixels of a block at 4x: its four samples' passed masks).
+TEST_F(SimdMask, PixelNibblesGatherFourMasksBitsAtEachLanesPixel) {
+  for (const Probe& p : probes_) {
+    const int L = p.lanes();
+    for (int round = 0; round < 200; ++round) {
+      std::uint64_t words[4];
+      for (std::uint64_t& w : words) w = rng_() & rng_();  // sparse and dense bits alike
+      if (round == 0) words[0] = words[1] = words[2] = words[3] = ~std::uint64_t{0};
+      if (round == 1) words[0] = words[1] = words[2] = words[3] = 0;
+      std::int32_t pixels[kMaxLanes], out[kMaxLanes];
+      for (int l = 0; l < L; ++l)
+        pixels[l] = round < 8 ? (round * L + l) % 64 : static_cast<std::int32_t>(rng_() % 64);
+      p.pixel_nibbles(words, pixels, out);
+      for (int l = 0; l < L; ++l) {
+        std::int32_t want = 0;
+        for (int k = 0; k < 4; ++k)
+          want |= static_cast<std::int32_t>((words[k] >> pixels[l]) & 1u) << k;
+        ASSERT_EQ(out[l], want) << mosaic::to_string(p.isa) << " round " << round << " lane " << l
+                                << " pixel " << pixels[l];
       }
     }
   }

@@ -60,6 +60,9 @@ void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* o
 void probe_compress_float(const float* in, std::uint32_t b, float* out) {
   T::M::compress(T::F::load_unaligned(in), b).store_unaligned(out);
 }
+void probe_pixel_nibbles(const std::uint64_t* words, const std::int32_t* p, std::int32_t* out) {
+  T::M::pixel_nibbles(words, T::I::load_unaligned(p)).store_unaligned(out);
+}
 
 // base[index[l]] = v[l] for the lanes in b; false where the set has no scatter.
 bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v,

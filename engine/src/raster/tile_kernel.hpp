@@ -1086,9 +1086,6 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       cx.ln.rowf[v] = xsimd::to_float(cx.row[v]);
       cx.ln.pixel[v] = cx.col[v] + cx.row[v] * I(kBlockSize);
     }
-    alignas(64) std::int32_t lane[L];
-    for (int l = 0; l < L; ++l) lane[l] = l;
-    cx.ln.lane = I::load_aligned(lane);
     for (int s = 0; s < f.samples; ++s) {
       const SampleOffset o = cx.pattern[s];
       // The reference's sample position is px + 0.5 + dx / 16; every term and sum is exact.

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -20,6 +21,18 @@
 #include "simd/lane_types.hpp"
 
 namespace mosaic::shade {
+
+/// For each byte, the positions of its set bits in order, then zeros: the pixel columns a row of
+/// a block's pixel mask holds.
+inline constexpr auto kSetBitPositions = [] {
+  std::array<std::array<std::int32_t, 8>, 256> table{};
+  for (int b = 0; b < 256; ++b) {
+    int k = 0;
+    for (int i = 0; i < 8; ++i)
+      if ((b >> i) & 1) table[b][k++] = i;
+  }
+  return table;
+}();
 
 template <class A>
 struct ShadeSimd : simd::LaneTypes<A> {
@@ -39,7 +52,6 @@ struct ShadeSimd : simd::LaneTypes<A> {
     F ox[raster::kMaxSamples], oy[raster::kMaxSamples];
     float oxs[raster::kMaxSamples], oys[raster::kMaxSamples];  ///< ox, oy as scalars
     I pixel[kVectors];  ///< each vector's pixel indices in the block: v * L + lane
-    I lane;             ///< each lane's index: its bit in a coverage word shifted by v * L
     const front::Plane* planes = nullptr;
   };
 
@@ -376,45 +388,57 @@ struct ShadeSimd : simd::LaneTypes<A> {
     return count >= L ? kLaneBits : (1u << count) - 1;
   }
 
-  /// Per lane of block vector v, bit k set where sample k of its pixel passed.
-  static I samples_passed(const Lanes& ln, const std::uint64_t* passed, int S, int v) {
-    const auto lanes = [&](int k) {
-      return static_cast<std::uint32_t>(passed[k] >> (v * L)) & kLaneBits;
-    };
-    if (S == 1) return I(1);  // a queued pixel's one sample passed
-    if constexpr (L <= 8) {
-      if (S == 4) {
-        // The common count: byte k of one word holds sample k's lane bits. Each lane moves its
-        // bit to bit 0 of every byte, and a multiply by 0x01020408 sums byte k's bit into bit
-        // 24 + k (no byte exceeds 15, so nothing carries between them).
-        const std::uint32_t bytes = lanes(0) | lanes(1) << 8 | lanes(2) << 16 | lanes(3) << 24;
-        const I word(std::bit_cast<std::int32_t>(bytes));
-        return (((word >> ln.lane) & I(0x01010101)) * I(0x01020408)) >> 24;
-      }
-    }
-    I samples(0);
-    for (int k = 0; k < S; ++k) {
-      const I word(static_cast<std::int32_t>(lanes(k)));
-      samples = samples | (((word >> ln.lane) & I(1)) << k);
-    }
-    return samples;
-  }
-
   /// A block's pixels in `pixels` (bit p: pixel p), into the queue: one entry each, at the
-  /// pixel centre with the samples that passed there. Only vectors with a pixel are appended.
+  /// pixel centre with the samples that passed there. The pixels' indices are listed first, a
+  /// row of the block at a time without a branch, and then appended L at a time: a small
+  /// triangle's row of a block holds a pixel or two, and a vector per row cost more.
   /// `color` is the index of the block's first colour sample in the queue's color_base.
   static void enqueue_pixels(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t, int S,
                              std::uint64_t pixels, std::int32_t color, F fx_blk, F fy_blk,
                              const std::uint64_t* passed) {
+    static_assert(raster::kBlockSize == 8, "a row of a block is one byte of its pixel mask");
     begin(q, t, ln.planes);
-    while (pixels) {
-      const int v = std::countr_zero(pixels) / L;
-      const auto lanes = static_cast<std::uint32_t>(pixels >> (v * L)) & kLaneBits;
-      pixels &= ~(std::uint64_t{kLaneBits} << (v * L));
-      append(q, lanes, (fx_blk + ln.colf[v]) + F(0.5f), (fy_blk + ln.rowf[v]) + F(0.5f),
-             I(color) + ln.pixel[v], samples_passed(ln, passed, S, v));
+    // Room for the last row's eight positions and for the last vector's lanes past the pixels.
+    alignas(64) std::int32_t at[kBlockPixels + std::max(8, L)];
+    int m = 0;
+    // The rows from the first pixel's to the last's (pixels is not empty).
+    const int last = (63 - std::countl_zero(pixels)) / raster::kBlockSize;
+    for (int r = std::countr_zero(pixels) / raster::kBlockSize; r <= last; ++r) {
+      const int shift = r * raster::kBlockSize;
+      const auto row = static_cast<unsigned>(pixels >> shift) & 0xffu;
+      const std::array<std::int32_t, 8>& columns = kSetBitPositions[row];
+      for (int i = 0; i < 8; ++i) at[m + i] = columns[i] + shift;
+      m += std::popcount(row);
+    }
+    if constexpr (L > 8) std::fill_n(at + m + 8, L - 8, 0);  // lanes the rows did not write
+    for (int j = 0; j < m; j += L) {
+      const I p = I::load_aligned(at + j);
+      const I col = p & I(raster::kBlockSize - 1), row = p >> 3;  // 8 pixels a row
+      const F x = (fx_blk + xsimd::to_float(col)) + F(0.5f);
+      const F y = (fy_blk + xsimd::to_float(row)) + F(0.5f);
+      const int n = q.n;
+      x.store_unaligned(q.x + n);
+      y.store_unaligned(q.y + n);
+      (I(color) + p).store_unaligned(q.color + n);
+      (S == 4 ? M::pixel_nibbles(passed, p) : sample_bits(passed, S, p))
+          .store_unaligned(q.samples + n);
+      q.n = n + std::min(L, m - j);
       if (q.n >= kShaderBatch) flush(q);
     }
+  }
+  /// Per lane, bit k set where sample k of block pixel p (0..63) passed: bit p % 32 of one half
+  /// of the sample's word.
+  static I sample_bits(const std::uint64_t* passed, int S, I p) {
+    if (S == 1) return I(1);  // a queued pixel's one sample passed
+    const auto high = p >= I(32);
+    const I shift = p & I(31);
+    I samples(0);
+    for (int k = 0; k < S; ++k) {
+      const I lo(static_cast<std::int32_t>(static_cast<std::uint32_t>(passed[k])));
+      const I hi(static_cast<std::int32_t>(static_cast<std::uint32_t>(passed[k] >> 32)));
+      samples = samples | (((xsimd::select(high, hi, lo) >> shift) & I(1)) << k);
+    }
+    return samples;
   }
   /// Sample s of the pixels of a block's batch g set in `bits` (SSAA), into the queue at the
   /// sample's position. Every vector of the batch is appended, empty ones too (they add no
