@@ -3,8 +3,9 @@
 // xsimd 8 has no portable batch_bool <-> bit-mask conversion, so this is where the
 // instructions are named: movmskps on SSE and AVX2, k-registers on AVX-512. Lane i is bit i.
 // Also here, for the same reason: rounding double lanes to float precision (to_float()), and
-// packing the lanes a mask selects into the low lanes, in order (compress()), and, where the set
-// has it, storing lanes to computed addresses (scatter()).
+// packing the lanes a mask selects into the low lanes, in order (compress()), each lane's bit of
+// four 64-bit masks (pixel_nibbles()), and, where the set has it, storing lanes to computed
+// addresses (scatter()).
 #pragma once
 
 #include <array>

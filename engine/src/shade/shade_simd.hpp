@@ -390,7 +390,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
 
   /// A block's pixels in `pixels` (bit p: pixel p), into the queue: one entry each, at the
   /// pixel centre with the samples that passed there. The pixels' indices are listed first, a
-  /// row of the block at a time without a branch, and then appended L at a time: a small
+  /// row of the block at a time from a table, and then appended L at a time: a small
   /// triangle's row of a block holds a pixel or two, and a vector per row cost more.
   /// `color` is the index of the block's first colour sample in the queue's color_base.
   static void enqueue_pixels(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t, int S,
