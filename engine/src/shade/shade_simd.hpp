@@ -420,16 +420,16 @@ struct ShadeSimd : simd::LaneTypes<A> {
       x.store_unaligned(q.x + n);
       y.store_unaligned(q.y + n);
       (I(color) + p).store_unaligned(q.color + n);
-      (S == 4 ? M::pixel_nibbles(passed, p) : sample_bits(passed, S, p))
-          .store_unaligned(q.samples + n);
+      sample_bits(passed, S, p).store_unaligned(q.samples + n);
       q.n = n + std::min(L, m - j);
       if (q.n >= kShaderBatch) flush(q);
     }
   }
-  /// Per lane, bit k set where sample k of block pixel p (0..63) passed: bit p % 32 of one half
-  /// of the sample's word.
+  /// Per lane, bit k set where sample k of block pixel p (0..63) passed: at 4x from the four
+  /// words at once, otherwise bit p % 32 of one half of each sample's word.
   static I sample_bits(const std::uint64_t* passed, int S, I p) {
     if (S == 1) return I(1);  // a queued pixel's one sample passed
+    if (S == 4) return M::pixel_nibbles(passed, p);
     const auto high = p >= I(32);
     const I shift = p & I(31);
     I samples(0);
