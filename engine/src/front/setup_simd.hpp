@@ -786,17 +786,11 @@ struct FrontEndSimd {
   /// times q, or, if one of them overflows float, constant planes of corner 0's values.
   static void store_varyings(const Results& r, int l, int nvary, std::vector<Plane>& planes,
                              TriangleSetup& ts) {
-    const std::size_t base = planes.size();
+    ts.planes_base = static_cast<std::uint32_t>(planes.size());
     // One resize for the triangle's planes, then plain stores: a push_back per plane cost more
     // than the planes' conversion.
-    planes.resize(base + 1 + static_cast<std::size_t>(nvary));
-    write_varyings(r, l, nvary, planes, base, ts);
-  }
-  /// store_varyings() into planes [base, base + 1 + nvary), which the caller has made.
-  static void write_varyings(const Results& r, int l, int nvary, std::vector<Plane>& planes,
-                             std::size_t base, TriangleSetup& ts) {
-    ts.planes_base = static_cast<std::uint32_t>(base);
-    Plane* p = planes.data() + base;
+    planes.resize(planes.size() + 1 + static_cast<std::size_t>(nvary));
+    Plane* p = planes.data() + ts.planes_base;
     if ((r.planes_finite >> l) & 1u) {  // is_finite() of each, in lanes (varying_planes())
       p[0] = plane(r.q, l);
       for (int k = 0; k < nvary; ++k) p[1 + k] = plane(r.vary_q[k], l);
@@ -996,12 +990,6 @@ struct FrontEndSimd {
         stats.no_sample += static_cast<std::uint64_t>(std::popcount(lanes & r.no_sample));
         stats.drawn += static_cast<std::uint64_t>(std::popcount(drawn));
         if (drawn) build_setups(r, batch);
-        // Without scalar lanes or colour planes (appended in between), the batch's drawn
-        // triangles' varying planes follow each other: one resize makes room for all of them.
-        const std::size_t per_triangle = 1 + static_cast<std::size_t>(scalar.nvary);
-        const bool batched = scalar.nvary > 0 && drawn && !(r.scalar & lanes) && !scalar.per_vertex;
-        std::size_t batch_planes = batched ? planes->size() : 0;
-        if (batched) planes->resize(batch_planes + per_triangle * std::popcount(drawn));
         for (std::uint32_t bits = (r.scalar & lanes) | drawn; bits; bits &= bits - 1) {
           const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
           const std::uint32_t t = listed ? listed[p + l] : first + p + l;
@@ -1014,12 +1002,7 @@ struct FrontEndSimd {
           TriangleSetup& ts = out.emplace_back(batch[l]);
           finish(r, vertices[cur], static_cast<int>(l), scalar.area, scalar.per_vertex, flat,
                  draw_index, planes, ts);
-          if (batched) {
-            write_varyings(r, static_cast<int>(l), scalar.nvary, *planes, batch_planes, ts);
-            batch_planes += per_triangle;
-          } else if (scalar.nvary > 0) {
-            store_varyings(r, static_cast<int>(l), scalar.nvary, *planes, ts);
-          }
+          if (scalar.nvary > 0) store_varyings(r, static_cast<int>(l), scalar.nvary, *planes, ts);
         }
       }
     }
