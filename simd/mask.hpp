@@ -3,9 +3,9 @@
 // xsimd 8 has no portable batch_bool <-> bit-mask conversion, so this is where the
 // instructions are named: movmskps on SSE and AVX2, k-registers on AVX-512. Lane i is bit i.
 // Also here, for the same reason: rounding double lanes to float precision (to_float()), and
-// packing the lanes a mask selects into the low lanes, in order (compress()), each lane's bit of
-// four 64-bit masks (pixel_nibbles()), and, where the set has it, storing lanes to computed
-// addresses (scatter()).
+// packing the lanes a mask selects into the low lanes, in order (compress()), the box mean of
+// each pixel's RGBA8 samples (means(): the resolve), and, where the set has
+// it, storing lanes to computed addresses (scatter()).
 #pragma once
 
 #include <array>
@@ -41,16 +41,42 @@ inline constexpr std::array<std::array<std::uint8_t, 16>, 16> kCompress4 = [] {
   }
   return t;
 }();
-#if XSIMD_WITH_SSE4_1
-// The rows 4 * half .. 4 * half + 3 of four 8×8 bit masks (a byte a row), one 32-bit word a row:
-// byte k of row r's word is row r of words[k]. Bit c of byte k is then pixel (c, r) of mask k.
-inline __m128i row_words(const std::uint64_t* words, int half) {
-  const auto row_bytes = [&](int k) {
-    return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(words + k));
-  };
-  const __m128i w01 = _mm_unpacklo_epi8(row_bytes(0), row_bytes(1));  // rows' bytes of 0 and 1
-  const __m128i w23 = _mm_unpacklo_epi8(row_bytes(2), row_bytes(3));
-  return half == 0 ? _mm_unpacklo_epi16(w01, w23) : _mm_unpackhi_epi16(w01, w23);
+#if XSIMD_WITH_AVX2
+// The channel sums of the four RGBA8 samples in each 128-bit half of v: r, g, b, a as int32
+// (bytes gathered by channel, then added in pairs twice).
+inline __m256i quad_sums256(__m256i v) {
+  const __m256i by_channel = _mm256_setr_epi8(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15,
+                                              0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15);
+  return _mm256_madd_epi16(
+      _mm256_maddubs_epi16(_mm256_shuffle_epi8(v, by_channel), _mm256_set1_epi8(1)),
+      _mm256_set1_epi16(1));
+}
+// means<S>() of eight pixels, S 256-bit vectors of their samples, pixel-major.
+template <int S>
+inline __m256i means256(const __m256i* v) {
+  constexpr int kShift = S == 4 ? 2 : S == 8 ? 3 : 4;
+  static_assert(S == 4 || S == 8 || S == 16);
+  __m256i mean[4];  // pixel 2k's r, g, b, a means in mean[k]'s low 128-bit half, 2k + 1's above
+  for (int k = 0; k < 4; ++k) {
+    __m256i sums;
+    if constexpr (S == 4) {
+      sums = quad_sums256(v[k]);
+    } else {
+      constexpr int kPer = S / 8;  // vectors a pixel
+      __m256i a = quad_sums256(v[2 * k * kPer]), b = quad_sums256(v[(2 * k + 1) * kPer]);
+      for (int i = 1; i < kPer; ++i) {
+        a = _mm256_add_epi32(a, quad_sums256(v[2 * k * kPer + i]));
+        b = _mm256_add_epi32(b, quad_sums256(v[(2 * k + 1) * kPer + i]));
+      }
+      sums = _mm256_add_epi32(_mm256_permute2x128_si256(a, b, 0x20),
+                              _mm256_permute2x128_si256(a, b, 0x31));
+    }
+    mean[k] = _mm256_srli_epi32(_mm256_add_epi32(sums, _mm256_set1_epi32(S / 2)), kShift);
+  }
+  // The packs work within 128-bit halves: pixels 0, 2, 4, 6 below and 1, 3, 5, 7 above.
+  const __m256i bytes = _mm256_packus_epi16(_mm256_packus_epi32(mean[0], mean[1]),
+                                            _mm256_packus_epi32(mean[2], mean[3]));
+  return _mm256_permutevar8x32_epi32(bytes, _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7));
 }
 #endif
 }  // namespace detail
@@ -100,6 +126,11 @@ struct Mask<xsimd::avx512bw> {
   static xsimd::batch<float, A> compress(const xsimd::batch<float, A>& v, std::uint32_t b) {
     return _mm512_maskz_compress_ps(static_cast<__mmask16>(b), v);
   }
+  /// Lane l: lane idx[l] of v (0 <= idx[l] < L).
+  static xsimd::batch<std::int32_t, A> permute(const xsimd::batch<std::int32_t, A>& v,
+                                               const xsimd::batch<std::int32_t, A>& idx) {
+    return _mm512_permutexvar_epi32(idx, v);
+  }
   static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
                                                 std::uint32_t b) {
     return _mm512_maskz_compress_epi32(static_cast<__mmask16>(b), v);
@@ -111,16 +142,19 @@ struct Mask<xsimd::avx512bw> {
                       const xsimd::batch<std::int32_t, A>& v, std::uint32_t b) {
     _mm512_mask_i32scatter_epi32(base, static_cast<__mmask16>(b), index, v, 4);
   }
-  /// Per lane, bit k set where bit p of words[k] is (k < 4), p the lane's value in 0..63.
-  static xsimd::batch<std::int32_t, A> pixel_nibbles(const std::uint64_t* words,
-                                                     const xsimd::batch<std::int32_t, A>& p) {
-    const __m256i rows = _mm256_set_m128i(detail::row_words(words, 1), detail::row_words(words, 0));
-    const __m512i word =
-        _mm512_permutexvar_epi32(_mm512_srli_epi32(p, 3), _mm512_castsi256_si512(rows));
-    const __m512i bits =
-        _mm512_and_si512(_mm512_srlv_epi32(word, _mm512_and_si512(p, _mm512_set1_epi32(7))),
-                         _mm512_set1_epi32(0x01010101));
-    return _mm512_srli_epi32(_mm512_mullo_epi32(bits, _mm512_set1_epi32(0x01020408)), 24);
+  /// Lane i: the box mean of pixel i's S RGBA8 samples (S = 4, 8, 16), v[0 .. S) holding the L
+  /// pixels' samples pixel-major: per byte (sum + S / 2) / S, as resolve::box_mean().
+  template <int S>
+  static xsimd::batch<std::int32_t, A> means(const xsimd::batch<std::int32_t, A>* v) {
+    const auto eight = [&](int first) {  // pixels 8 * first / S on, from 256-bit halves
+      __m256i w[S];
+      for (int i = 0; i < S / 2; ++i) {
+        w[2 * i] = _mm512_castsi512_si256(v[first + i]);
+        w[2 * i + 1] = _mm512_extracti64x4_epi64(v[first + i], 1);
+      }
+      return detail::means256<S>(w);
+    };
+    return _mm512_inserti64x4(_mm512_castsi256_si512(eight(0)), eight(S / 2), 1);
   }
 };
 #endif
@@ -175,21 +209,23 @@ struct Mask<xsimd::avx2> {
   static xsimd::batch<float, A> compress(const xsimd::batch<float, A>& v, std::uint32_t b) {
     return _mm256_permutevar8x32_ps(v, compress_index(b));
   }
+  /// Lane l: lane idx[l] of v (0 <= idx[l] < L).
+  static xsimd::batch<std::int32_t, A> permute(const xsimd::batch<std::int32_t, A>& v,
+                                               const xsimd::batch<std::int32_t, A>& idx) {
+    return _mm256_permutevar8x32_epi32(v, idx);
+  }
   static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
                                                 std::uint32_t b) {
     return _mm256_permutevar8x32_epi32(v, compress_index(b));
   }
   static constexpr bool kScatter = false;  ///< AVX2 has gathers only
-  /// Per lane, bit k set where bit p of words[k] is (k < 4), p the lane's value in 0..63.
-  static xsimd::batch<std::int32_t, A> pixel_nibbles(const std::uint64_t* words,
-                                                     const xsimd::batch<std::int32_t, A>& p) {
-    const __m128i rows = detail::row_words(words, 0), rows_high = detail::row_words(words, 1);
-    const __m256i word =
-        _mm256_permutevar8x32_epi32(_mm256_set_m128i(rows_high, rows), _mm256_srli_epi32(p, 3));
-    const __m256i bits =
-        _mm256_and_si256(_mm256_srlv_epi32(word, _mm256_and_si256(p, _mm256_set1_epi32(7))),
-                         _mm256_set1_epi32(0x01010101));
-    return _mm256_srli_epi32(_mm256_mullo_epi32(bits, _mm256_set1_epi32(0x01020408)), 24);
+  /// Lane i: the box mean of pixel i's S RGBA8 samples (S = 4, 8, 16), v[0 .. S) holding the L
+  /// pixels' samples pixel-major: per byte (sum + S / 2) / S, as resolve::box_mean().
+  template <int S>
+  static xsimd::batch<std::int32_t, A> means(const xsimd::batch<std::int32_t, A>* v) {
+    __m256i w[S];
+    for (int i = 0; i < S; ++i) w[i] = v[i];
+    return detail::means256<S>(w);
   }
 };
 #endif
@@ -231,6 +267,14 @@ struct Mask<xsimd::sse4_1> {
   static xsimd::batch_bool<std::int32_t, A> ints(std::uint32_t b) { return expand(b); }
   static xsimd::batch_bool<float, A> floats(std::uint32_t b) { return _mm_castsi128_ps(expand(b)); }
   /// The lanes set in `b`, packed into the low lanes in order; the lanes above them unspecified.
+  /// Lane l: lane idx[l] of v (0 <= idx[l] < L).
+  static xsimd::batch<std::int32_t, A> permute(const xsimd::batch<std::int32_t, A>& v,
+                                               const xsimd::batch<std::int32_t, A>& idx) {
+    // The bytes 4 idx .. 4 idx + 3 of each lane, for pshufb.
+    const __m128i bytes =
+        _mm_add_epi32(_mm_mullo_epi32(idx, _mm_set1_epi32(0x04040404)), _mm_set1_epi32(0x03020100));
+    return _mm_shuffle_epi8(v, bytes);
+  }
   static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
                                                 std::uint32_t b) {
     const __m128i control =
@@ -241,25 +285,25 @@ struct Mask<xsimd::sse4_1> {
     return _mm_castsi128_ps(compress(xsimd::batch<std::int32_t, A>(_mm_castps_si128(v)), b));
   }
   static constexpr bool kScatter = false;
-  /// Per lane, bit k set where bit p of words[k] is (k < 4), p the lane's value in 0..63. SSE4.1
-  /// has no variable shift: a multiply by 1 << (7 - column) moves the column's bit to bit 7 of
-  /// each byte of the row's word.
-  static xsimd::batch<std::int32_t, A> pixel_nibbles(const std::uint64_t* words,
-                                                     const xsimd::batch<std::int32_t, A>& p) {
-    const __m128i row = _mm_srli_epi32(p, 3), col = _mm_and_si128(p, _mm_set1_epi32(7));
-    // Row r's word is dword r % 4 of the low or high rows: pshufb bytes 4 (r % 4) .. + 3.
-    const __m128i pick = _mm_add_epi32(
-        _mm_mullo_epi32(_mm_and_si128(row, _mm_set1_epi32(3)), _mm_set1_epi32(0x04040404)),
-        _mm_set1_epi32(0x03020100));
-    const __m128i word = _mm_blendv_epi8(_mm_shuffle_epi8(detail::row_words(words, 0), pick),
-                                         _mm_shuffle_epi8(detail::row_words(words, 1), pick),
-                                         _mm_cmpgt_epi32(row, _mm_set1_epi32(3)));
-    const __m128i powers = _mm_setr_epi8(-128, 64, 32, 16, 8, 4, 2, 1, 0, 0, 0, 0, 0, 0, 0, 0);
-    const __m128i multiplier =
-        _mm_shuffle_epi8(powers, _mm_or_si128(col, _mm_set1_epi32(static_cast<int>(0x80808000))));
-    const __m128i top = _mm_and_si128(_mm_mullo_epi32(word, multiplier),
-                                      _mm_set1_epi32(static_cast<int>(0x80808080)));
-    return _mm_srli_epi32(_mm_mullo_epi32(_mm_srli_epi32(top, 7), _mm_set1_epi32(0x01020408)), 24);
+  /// Lane i: the box mean of pixel i's S RGBA8 samples (S = 4, 8, 16), v[0 .. S) holding the L
+  /// pixels' samples pixel-major: per byte (sum + S / 2) / S, as resolve::box_mean().
+  template <int S>
+  static xsimd::batch<std::int32_t, A> means(const xsimd::batch<std::int32_t, A>* v) {
+    static_assert(S == 4 || S == 8 || S == 16);
+    constexpr int kShift = S == 4 ? 2 : S == 8 ? 3 : 4, kPer = S / 4;  // vectors a pixel
+    // A vector is four samples: their r bytes, then g, b and a, added in pairs twice.
+    const __m128i by_channel = _mm_setr_epi8(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15);
+    const auto quad_sums = [&](__m128i q) {
+      return _mm_madd_epi16(_mm_maddubs_epi16(_mm_shuffle_epi8(q, by_channel), _mm_set1_epi8(1)),
+                            _mm_set1_epi16(1));
+    };
+    __m128i mean[4];
+    for (int p = 0; p < 4; ++p) {
+      __m128i sums = quad_sums(v[p * kPer]);
+      for (int i = 1; i < kPer; ++i) sums = _mm_add_epi32(sums, quad_sums(v[p * kPer + i]));
+      mean[p] = _mm_srli_epi32(_mm_add_epi32(sums, _mm_set1_epi32(S / 2)), kShift);
+    }
+    return _mm_packus_epi16(_mm_packus_epi32(mean[0], mean[1]), _mm_packus_epi32(mean[2], mean[3]));
   }
 };
 #endif

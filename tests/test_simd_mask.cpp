@@ -20,27 +20,28 @@
 
 #include "mosaic/mosaic.hpp"
 
-#define MOSAIC_DECLARE_PROBES(ns)                                                                 \
-  namespace mosaic::simd::ns {                                                                    \
-  int probe_lanes();                                                                              \
-  int probe_double_lanes();                                                                       \
-  std::uint32_t probe_nonzero_groups(std::uint64_t m);                                            \
-  std::uint32_t probe_signs_int(const std::int32_t* v);                                           \
-  std::uint32_t probe_signs_double(const double* v);                                              \
-  std::uint32_t probe_int_mask(std::uint32_t b);                                                  \
-  std::uint32_t probe_float_mask(std::uint32_t b);                                                \
-  std::uint32_t probe_double_less(const double* a, const double* b);                              \
-  void probe_to_float(const double* in, double* out);                                             \
-  void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out);            \
-  void probe_compress_float(const float* in, std::uint32_t b, float* out);                        \
-  void probe_pixel_nibbles(const std::uint64_t* words, const std::int32_t* p, std::int32_t* out); \
-  bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v,        \
-                     std::uint32_t b);                                                            \
-  void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,            \
-                     double* high);                                                               \
-  void probe_heads(const void* const* rows, std::uint32_t (*words)[16]);                          \
-  void probe_rows(const double* ints, const double* a, const double* b, const double* c,          \
-                  const double* d, const std::uint64_t (*more)[16], void* out);                   \
+#define MOSAIC_DECLARE_PROBES(ns)                                                          \
+  namespace mosaic::simd::ns {                                                             \
+  int probe_lanes();                                                                       \
+  int probe_double_lanes();                                                                \
+  std::uint32_t probe_nonzero_groups(std::uint64_t m);                                     \
+  std::uint32_t probe_signs_int(const std::int32_t* v);                                    \
+  std::uint32_t probe_signs_double(const double* v);                                       \
+  std::uint32_t probe_int_mask(std::uint32_t b);                                           \
+  std::uint32_t probe_float_mask(std::uint32_t b);                                         \
+  std::uint32_t probe_double_less(const double* a, const double* b);                       \
+  void probe_to_float(const double* in, double* out);                                      \
+  void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out);     \
+  void probe_compress_float(const float* in, std::uint32_t b, float* out);                 \
+  void probe_means(int S, const std::int32_t* in, std::int32_t* out);                      \
+  void probe_permute(const std::int32_t* in, const std::int32_t* idx, std::int32_t* out);  \
+  bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v, \
+                     std::uint32_t b);                                                     \
+  void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,     \
+                     double* high);                                                        \
+  void probe_heads(const void* const* rows, std::uint32_t (*words)[16]);                   \
+  void probe_rows(const double* ints, const double* a, const double* b, const double* c,   \
+                  const double* d, const std::uint64_t (*more)[16], void* out);            \
   }
 
 #if MOSAIC_PROBE_SSE41
@@ -70,7 +71,8 @@ struct Probe {
   void (*to_float)(const double*, double*);
   void (*compress_int)(const std::int32_t*, std::uint32_t, std::int32_t*);
   void (*compress_float)(const float*, std::uint32_t, float*);
-  void (*pixel_nibbles)(const std::uint64_t*, const std::int32_t*, std::int32_t*);
+  void (*means)(int, const std::int32_t*, std::int32_t*);
+  void (*permute)(const std::int32_t*, const std::int32_t*, std::int32_t*);
   bool (*scatter)(std::int32_t*, const std::int32_t*, const std::int32_t*, std::uint32_t);
   void (*columns)(const void* const*, std::uint64_t (*)[16], double*, double*);
   void (*heads)(const void* const*, std::uint32_t (*)[16]);
@@ -78,16 +80,17 @@ struct Probe {
                const std::uint64_t (*)[16], void*);
 };
 
-#define MOSAIC_PROBE(ns, isa)                                                            \
-  Probe {                                                                                \
-    isa, &mosaic::simd::ns::probe_lanes, &mosaic::simd::ns::probe_double_lanes,          \
-        &mosaic::simd::ns::probe_nonzero_groups, &mosaic::simd::ns::probe_signs_int,     \
-        &mosaic::simd::ns::probe_signs_double, &mosaic::simd::ns::probe_int_mask,        \
-        &mosaic::simd::ns::probe_float_mask, &mosaic::simd::ns::probe_double_less,       \
-        &mosaic::simd::ns::probe_to_float, &mosaic::simd::ns::probe_compress_int,        \
-        &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_pixel_nibbles, \
-        &mosaic::simd::ns::probe_scatter, &mosaic::simd::ns::probe_columns,              \
-        &mosaic::simd::ns::probe_heads, &mosaic::simd::ns::probe_rows                    \
+#define MOSAIC_PROBE(ns, isa)                                                        \
+  Probe {                                                                            \
+    isa, &mosaic::simd::ns::probe_lanes, &mosaic::simd::ns::probe_double_lanes,      \
+        &mosaic::simd::ns::probe_nonzero_groups, &mosaic::simd::ns::probe_signs_int, \
+        &mosaic::simd::ns::probe_signs_double, &mosaic::simd::ns::probe_int_mask,    \
+        &mosaic::simd::ns::probe_float_mask, &mosaic::simd::ns::probe_double_less,   \
+        &mosaic::simd::ns::probe_to_float, &mosaic::simd::ns::probe_compress_int,    \
+        &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_means,     \
+        &mosaic::simd::ns::probe_permute, &mosaic::simd::ns::probe_scatter,          \
+        &mosaic::simd::ns::probe_columns, &mosaic::simd::ns::probe_heads,            \
+        &mosaic::simd::ns::probe_rows                                                \
   }
 
 // The probes of every set this build compiles and this CPU runs.
@@ -287,27 +290,51 @@ TEST_F(SimdMask, CompressPacksTheMaskedLanesInOrder) {
   }
 }
 
-// Lane l's bit k is bit p[l] of word k, for four 64-bit masks and any pixels 0..63 in any
-// order (a queue's pixels of a block at 4x: its four samples' passed masks).
-TEST_F(SimdMask, PixelNibblesGatherFourMasksBitsAtEachLanesPixel) {
+// Lane l is the box mean of pixel l's S RGBA8 words (S = 4, 8, 16; words l * S .. l * S + S - 1
+// of the vectors laid end to end), per byte (sum + S / 2) / S as resolve::box_mean() rounds, for
+// any bytes (255s included).
+TEST_F(SimdMask, MeansAverageEachPixelsSamplesPerByte) {
+  for (const Probe& p : probes_) {
+    const int L = p.lanes();
+    for (const int S : {4, 8, 16}) {
+      for (int round = 0; round < 300; ++round) {
+        std::vector<std::int32_t> in(static_cast<std::size_t>(S * L));
+        std::int32_t out[kMaxLanes];
+        for (int i = 0; i < S * L; ++i)
+          in[i] = round == 0   ? static_cast<std::int32_t>(0xffffffffu)
+                  : round == 1 ? i * 0x01020304
+                               : static_cast<std::int32_t>(rng_());
+        p.means(S, in.data(), out);
+        for (int l = 0; l < L; ++l) {
+          std::uint32_t want = 0;
+          for (int byte = 0; byte < 4; ++byte) {
+            unsigned sum = 0;
+            for (int k = 0; k < S; ++k)
+              sum += static_cast<std::uint32_t>(in[l * S + k]) >> (8 * byte) & 0xffu;
+            want |= ((sum + S / 2) / S) << (8 * byte);
+          }
+          ASSERT_EQ(static_cast<std::uint32_t>(out[l]), want)
+              << mosaic::to_string(p.isa) << " " << S << "x round " << round << " lane " << l;
+        }
+      }
+    }
+  }
+}
+
+// Lane l is lane idx[l] of the input, for any indices (repeats included).
+TEST_F(SimdMask, PermutePicksTheIndexedLane) {
   for (const Probe& p : probes_) {
     const int L = p.lanes();
     for (int round = 0; round < 200; ++round) {
-      std::uint64_t words[4];
-      for (std::uint64_t& w : words) w = rng_() & rng_();  // sparse and dense bits alike
-      if (round == 0) words[0] = words[1] = words[2] = words[3] = ~std::uint64_t{0};
-      if (round == 1) words[0] = words[1] = words[2] = words[3] = 0;
-      std::int32_t pixels[kMaxLanes], out[kMaxLanes];
-      for (int l = 0; l < L; ++l)
-        pixels[l] = round < 8 ? (round * L + l) % 64 : static_cast<std::int32_t>(rng_() % 64);
-      p.pixel_nibbles(words, pixels, out);
+      std::int32_t in[kMaxLanes], idx[kMaxLanes], out[kMaxLanes];
       for (int l = 0; l < L; ++l) {
-        std::int32_t want = 0;
-        for (int k = 0; k < 4; ++k)
-          want |= static_cast<std::int32_t>((words[k] >> pixels[l]) & 1u) << k;
-        ASSERT_EQ(out[l], want) << mosaic::to_string(p.isa) << " round " << round << " lane " << l
-                                << " pixel " << pixels[l];
+        in[l] = static_cast<std::int32_t>(rng_());
+        idx[l] = round == 0 ? L - 1 - l : static_cast<std::int32_t>(rng_() % L);
       }
+      p.permute(in, idx, out);
+      for (int l = 0; l < L; ++l)
+        ASSERT_EQ(out[l], in[idx[l]])
+            << mosaic::to_string(p.isa) << " round " << round << " lane " << l;
     }
   }
 }

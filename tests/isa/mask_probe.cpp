@@ -60,8 +60,16 @@ void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* o
 void probe_compress_float(const float* in, std::uint32_t b, float* out) {
   T::M::compress(T::F::load_unaligned(in), b).store_unaligned(out);
 }
-void probe_pixel_nibbles(const std::uint64_t* words, const std::int32_t* p, std::int32_t* out) {
-  T::M::pixel_nibbles(words, T::I::load_unaligned(p)).store_unaligned(out);
+
+// means<S>() of the S vectors laid end to end in `in`, for S = 4, 8, 16.
+void probe_means(int S, const std::int32_t* in, std::int32_t* out) {
+  T::I v[16];
+  for (int i = 0; i < S; ++i) v[i] = T::I::load_unaligned(in + i * T::L);
+  const T::I m = S == 4 ? T::M::means<4>(v) : S == 8 ? T::M::means<8>(v) : T::M::means<16>(v);
+  m.store_unaligned(out);
+}
+void probe_permute(const std::int32_t* in, const std::int32_t* idx, std::int32_t* out) {
+  T::M::permute(T::I::load_unaligned(in), T::I::load_unaligned(idx)).store_unaligned(out);
 }
 
 // base[index[l]] = v[l] for the lanes in b; false where the set has no scatter.

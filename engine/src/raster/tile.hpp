@@ -6,6 +6,8 @@
 // per-worker TileScratch for the whole tile, in cache, until the tile is resolved.
 #pragma once
 
+#include <array>
+#include <bit>
 #include <cstdint>
 #include <cstdlib>
 #include <iterator>
@@ -54,6 +56,120 @@ static_assert(tile_size_for(1) == 128 && tile_size_for(4) == 128 && tile_size_fo
               tile_size_for(16) == 64);
 
 static_assert(kBlockPixels == 64, "coverage words are 64-bit: one bit per pixel of a block");
+
+// A block's S samples per pixel lie pixel-major in the tile's sample memory: sample s of pixel p
+// (p = row * 8 + column) at word p * S + s of the block's S * 64, so that one vector holds every
+// sample of a few pixels, which a small triangle's samples fill better than a row of one sample.
+// Masks over a block's samples use the same order: bit g of words[g / 64] is word g's lane.
+// (The helpers below are always inlined: the SIMD objects that call them must not export a copy
+// compiled with their instruction set.)
+
+/// The pixel mask `pixels` (bit p: pixel p of a block) as a mask of the block's samples: each
+/// pixel's bit repeated S times, into words[0 .. S).
+[[gnu::always_inline]] inline void spread_pixels(std::uint64_t pixels, int S,
+                                                 std::uint64_t* words) {
+  if (S == 1 || pixels == ~std::uint64_t{0}) {
+    for (int w = 0; w < S; ++w) words[w] = S == 1 ? pixels : ~std::uint64_t{0};
+    return;
+  }
+  const int per_word = kBlockPixels / S;  // pixels a word holds
+  const std::uint64_t ones = (std::uint64_t{1} << S) - 1;
+  for (int w = 0; w < S; ++w) {
+    std::uint64_t m = 0;
+    for (std::uint64_t bits = (pixels >> (w * per_word)) & ((std::uint64_t{1} << per_word) - 1);
+         bits; bits &= bits - 1)
+      m |= ones << (std::countr_zero(bits) * S);
+    words[w] = m;
+  }
+}
+
+namespace detail {
+/// kPack[k][j]: for groups of S = 2^k bits, the runs of 2^(j+1) bits every 2^(j+1) * S bits that
+/// step j of pack_groups() keeps; kPack[k][6]: the bits at multiples of S.
+inline constexpr auto kPack = [] {
+  std::array<std::array<std::uint64_t, 7>, 5> t{};
+  for (int k = 0; k < 5; ++k) {
+    const int S = 1 << k;
+    for (int j = 0; j < 6; ++j) {
+      const int run = 2 << j, period = run * S;
+      for (int at = 0; at < 64; at += period)
+        for (int b = 0; b < run && at + b < 64; ++b) t[k][j] |= std::uint64_t{1} << (at + b);
+    }
+    for (int at = 0; at < 64; at += S) t[k][6] |= std::uint64_t{1} << at;
+  }
+  return t;
+}();
+/// Bit g * S of x, for each g < 64 / S, packed into bit g (S a power of two, 2 to 16).
+template <int S>
+[[gnu::always_inline]] inline std::uint64_t pack_groups(std::uint64_t x) {
+  constexpr int k = std::countr_zero(static_cast<unsigned>(S));
+  x &= kPack[k][6];
+  if constexpr (S == 16) {
+    // Four bits 16 apart: one multiply puts bit 16 * g at bit 48 + g, with no carries between.
+    constexpr std::uint64_t kGather16 = (std::uint64_t{1} << 48) | (std::uint64_t{1} << 33) |
+                                        (std::uint64_t{1} << 18) | (std::uint64_t{1} << 3);
+    return (x * kGather16) >> 48;
+  } else {
+    int j = 0;
+    for (int width = 1; width * S < 64; ++j, width *= 2)
+      x = (x | (x >> (width * (S - 1)))) & kPack[k][j];
+    return x;
+  }
+}
+/// pixels_of() and sample_pixels() for a fixed sample count: the loops unroll.
+template <int S>
+[[gnu::always_inline]] inline std::uint64_t pixels_of(const std::uint64_t* words) {
+  constexpr int per_word = kBlockPixels / S;
+  std::uint64_t pixels = 0;
+  for (int w = 0; w < S; ++w) {
+    std::uint64_t x = words[w];
+    for (int k = 1; k < S; k *= 2) x |= x >> k;  // bit g * S: the OR of its group
+    pixels |= pack_groups<S>(x) << (w * per_word);
+  }
+  return pixels;
+}
+template <int S>
+[[gnu::always_inline]] inline std::uint64_t sample_pixels(const std::uint64_t* words, int s) {
+  constexpr int per_word = kBlockPixels / S;
+  std::uint64_t pixels = 0;
+  for (int w = 0; w < S; ++w) pixels |= pack_groups<S>(words[w] >> s) << (w * per_word);
+  return pixels;
+}
+}  // namespace detail
+
+/// The pixels of a block with a sample set in `words` (S words, as above): bit p set where one
+/// of pixel p's S bits is.
+[[gnu::always_inline]] inline std::uint64_t pixels_of(const std::uint64_t* words, int S) {
+  switch (S) {
+    case 1:
+      return words[0];
+    case 2:
+      return detail::pixels_of<2>(words);
+    case 4:
+      return detail::pixels_of<4>(words);
+    case 8:
+      return detail::pixels_of<8>(words);
+    default:
+      return detail::pixels_of<16>(words);
+  }
+}
+
+/// The pixels of a block whose sample s is set in `words`.
+[[gnu::always_inline]] inline std::uint64_t sample_pixels(const std::uint64_t* words, int S,
+                                                          int s) {
+  switch (S) {
+    case 1:
+      return words[0];
+    case 2:
+      return detail::sample_pixels<2>(words, s);
+    case 4:
+      return detail::sample_pixels<4>(words, s);
+    case 8:
+      return detail::sample_pixels<8>(words, s);
+    default:
+      return detail::sample_pixels<16>(words, s);
+  }
+}
 
 /// The triangles of one tile: runs of indices into per-chunk setup arrays, in submission order.
 struct BinRun {

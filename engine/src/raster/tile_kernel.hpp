@@ -8,9 +8,11 @@
 //      stepped from block to block along a row);
 //   2. hierarchical z (raster/hiz.hpp): reject the block if the triangle is entirely behind it,
 //      or skip the per-sample depth test if it is entirely in front;
-//   3. coverage: one 64-bit mask per sample, from SIMD int32 edge functions stepped from the
-//      block corner (exact: the corner value is int64, and a block whose values could leave
-//      int32 is evaluated in double lanes, exact for integers below 2^53);
+//   3. coverage: one bit per sample of the block, in the order of its sample memory (pixel-major,
+//      raster/tile.hpp: a vector holds every sample of a few pixels), from SIMD int32 edge
+//      functions stepped from the block corner a row at a time (exact: the corner value is
+//      int64, and a block whose values could leave int32 is evaluated in double lanes, exact for
+//      integers below 2^53);
 //   4. depth (float plane, the same operations as the reference) and the per-sample test;
 //   5. colour (shade/shade_simd.hpp): once per pixel (MSAA) or per sample (SSAA), written where
 //      the test passed.
@@ -75,8 +77,13 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   /// Vectors until the lanes' pixel columns repeat, and the rows that period advances by.
   static constexpr int kPeriod = L >= kBlockSize ? 1 : kBlockSize / L;
   static constexpr int kPeriodRows = L >= kBlockSize ? L / kBlockSize : 1;
-  /// Samples whose vectors fit one 64-bit word of (sample, vector) bits.
+  /// Coverage words (64 lanes each) whose vectors fit one 64-bit word of vector bits.
   static constexpr int kGroup = 64 / kVectors;
+  /// The most vectors a block row of samples takes (pixel-major: 8 pixels × kMaxSamples), and
+  /// double vectors.
+  static constexpr int kRowVectors = kBlockSize * kMaxSamples / L;
+  static constexpr int kRowDVectors = kBlockSize * kMaxSamples / kDLanes;
+  static constexpr int kDOffsets = std::max(kDVectors, kRowDVectors);
   static_assert(kVectors <= 32 && kGroup >= 1);
 
   /// Lane l of vector v holds pixel p = v * L + l of the block: column p % 8, row p / 8.
@@ -109,12 +116,22 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     /// The same as floats, the sample offsets from the pixel corner, and the plane array of the
     /// bin run being drawn: what shading needs of the block's lanes.
     typename Sh::Lanes ln;
-    /// Per (sample s, vector v), at index s * kVectors + v, the order of a block's sample memory:
-    /// the lanes' sample positions from the block's corner, col + ox[s] and row + oy[s]. Every
-    /// term and sum is exact in float (multiples of 1/16 below 2^4), so a block's sample position
-    /// corner + sxy[k] equals the reference's (corner + col) + ox[s] bit for bit; the depth loop
-    /// then needs neither s nor v, only the vector's index k.
-    F sx[kMaxSamples * kVectors], sy[kMaxSamples * kVectors];
+    /// Per vector k of a block's sample memory (pixel-major: lane l holds sample g % S of pixel
+    /// g / S, g = k * L + l), the lanes' sample positions from the block's corner, col + ox[s] and
+    /// row + oy[s]. Every term and sum is exact in float (multiples of 1/16 below 2^4), so a
+    /// block's sample position corner + sxy[k] equals the reference's (corner + col) + ox[s] bit
+    /// for bit; the depth loop then needs only the vector's index k.
+    const F* sx = nullptr;
+    const F* sy = nullptr;
+    /// Pixel-major coverage (two or more samples): lane l of a block row's vector j holds sample
+    /// (j * L + l) % S of the row's pixel (j * L + l) / S; rx, ry are its position from the row's
+    /// first pixel corner, in 16.8 (sample offset included), so that an edge's value there is
+    /// its corner value plus a * rx + b * ry.
+    const I* rx = nullptr;
+    const I* ry = nullptr;
+    /// Interpolated colour (MSAA): lane l of vector k takes the colour of lane pick[k % S][l] of
+    /// its pixels' row vector k / S (the colours are made once per row vector of pixels).
+    const I* pick = nullptr;
     std::int64_t soff[2][kMaxSamples];  ///< sample offset from the pixel corner, in 16.8
     /// A shader draw's pixels waiting for a whole batch; written before anything else colours
     /// the tile (another draw's run, the resolve).
@@ -353,16 +370,22 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       for (int v = 0; v < kPeriod; ++v) eoff[e][v] = as * cx.col[v] + bs * cx.row[v];
       rows_down[e] = I(static_cast<std::int32_t>(b[e] * kSubpixel * kPeriodRows));
     }
-    // Each edge's offset from a pixel's corner to each of its samples, mod 2^32 like eoff.
-    std::uint32_t soff[3][kMaxSamples];
-    for (int s = 0; s < S; ++s) {
-      // (One sample per pixel: at the centre, kHalf from the corner on both axes.)
-      const std::int64_t sx = kS1 ? kHalf : cx.soff[0][s], sy = kS1 ? kHalf : cx.soff[1][s];
-      for (int e = 0; e < 3; ++e) soff[e][s] = static_cast<std::uint32_t>(sx * a[e] + sy * b[e]);
+    // One sample: each edge's offset from a pixel's corner to its centre, mod 2^32 like eoff.
+    // More: the edges' offsets to the lanes of a block row's vectors (pixel-major, Context::rx),
+    // and their step from one block row to the next.
+    const bool one = kS1 || S == 1;
+    std::uint32_t centre[3];
+    const int row_vectors = one ? 0 : kBlockSize * S / L;
+    I roff[3][kS1 ? 1 : kRowVectors], row_down[3];
+    for (int e = 0; e < 3; ++e) {
+      centre[e] = static_cast<std::uint32_t>(kHalf * a[e] + kHalf * b[e]);
+      const I as(static_cast<std::int32_t>(a[e])), bs(static_cast<std::int32_t>(b[e]));
+      for (int j = 0; j < row_vectors; ++j) roff[e][j] = as * cx.rx[j] + bs * cx.ry[j];
+      row_down[e] = I(static_cast<std::int32_t>(b[e] * kSubpixel));
     }
     // Offsets of the edges from a block's corner to its pixels in double, for blocks whose values
     // could leave int32 (see coverage_f64); built for the first such block only.
-    D doff[3][kDVectors];
+    D doff[3][kDOffsets];
     bool doff_built = false;
     const float tlo = t.z_min, thi = t.z_max;
     const DepthLanes depth(t.z, t.x0, t.y0, tlo, thi);
@@ -455,6 +478,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         // tile, this 10 (cachegrind branch simulation, random-small 4x, AVX2: 4.9M -> 1.3M).
         // (Folding coverage into the depth loop, one vector at a time, measured 7-11 % more
         // instructions, callgrind, AVX2.)
+        // The lane tables' pointers in locals: the stores below could alias cx, to the compiler.
+        const F* const sx = cx.sx;
+        const F* const sy = cx.sy;
         float* dblk = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
         [[maybe_unused]] std::uint32_t* cblk =
             kColor ? cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels : nullptr;
@@ -467,45 +493,52 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         // A block the hierarchical z accepts passes every covered sample without the test.
         const std::uint32_t keep = test ? 0u : kLaneBits;
         std::uint64_t written = 0, covered = 0;
+        // Coverage, one bit per lane of the block's sample memory (pixel-major), laid out in
+        // cov's words as the memory is.
         std::uint64_t cov[kMaxSamples];
+        if (all_in) {
+          spread_pixels(inside, S, cov);
+        } else {
+          const std::uint32_t c0 = static_cast<std::uint32_t>(eorg[0]),
+                              c1 = static_cast<std::uint32_t>(eorg[1]),
+                              c2 = static_cast<std::uint32_t>(eorg[2]);
+          if (fits32 && one) {
+            // Edge values at the block's first pixel centre (exact: fits32), mod 2^32.
+            cov[0] = coverage32(I(static_cast<std::int32_t>(c0 + centre[0])),
+                                I(static_cast<std::int32_t>(c1 + centre[1])),
+                                I(static_cast<std::int32_t>(c2 + centre[2])), eoff, rows_down);
+          } else if (fits32) {
+            if constexpr (!kS1)
+              coverage32_rows<K::kSamples>(static_cast<std::int32_t>(c0),
+                                           static_cast<std::int32_t>(c1),
+                                           static_cast<std::int32_t>(c2), roff, row_down, S, cov);
+          } else {
+            if (!doff_built) {
+              build_doff(a, b, cx, S, doff);
+              doff_built = true;
+            }
+            coverage_f64(eorg, b, S, doff, cov);
+          }
+          if (inside != kWholeBlock) {
+            std::uint64_t in[kMaxSamples];
+            spread_pixels(inside, S, in);
+            for (int w = 0; w < S; ++w) cov[w] &= in[w];
+          }
+        }
+        for (int w = 0; w < S; ++w) covered += static_cast<std::uint64_t>(std::popcount(cov[w]));
         for (std::size_t s0 = 0; s0 < static_cast<std::size_t>(S); s0 += kGroup) {
           const std::size_t s1 = std::min<std::size_t>(S, s0 + kGroup);
           std::uint64_t act = 0;
-          for (std::size_t s = s0; s < s1; ++s) {
-            std::uint64_t m;
-            if (all_in) {
-              m = inside;
-            } else if (fits32) {
-              // Edge values at this sample of the block's first pixel (exact: fits32), mod 2^32.
-              const I b0(
-                  static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[0]) + soff[0][s]));
-              const I b1(
-                  static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[1]) + soff[1][s]));
-              const I b2(
-                  static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[2]) + soff[2][s]));
-              m = coverage32(b0, b1, b2, eoff, rows_down) & inside;
-            } else {
-              if (!doff_built) {
-                build_doff(a, b, doff);
-                doff_built = true;
-              }
-              const std::int64_t sx = kS1 ? kHalf : cx.soff[0][s], sy = kS1 ? kHalf : cx.soff[1][s];
-              m = coverage_f64(eorg[0] + sx * a[0] + sy * b[0], eorg[1] + sx * a[1] + sy * b[1],
-                               eorg[2] + sx * a[2] + sy * b[2], doff) &
-                  inside;
-            }
-            cov[s] = m;
-            covered += static_cast<std::uint64_t>(std::popcount(m));
-            act |= std::uint64_t{vectors_with_lanes(m)} << ((s - s0) * kVectors);
-          }
+          for (std::size_t w = s0; w < s1; ++w)
+            act |= std::uint64_t{vectors_with_lanes(cov[w])} << ((w - s0) * kVectors);
           for (; act; act &= act - 1) {
-            // Vector i of the group is vector k of the block, vector v of sample s:
-            // k * L = s * kBlockPixels + v * L, its place in the block's sample memory.
+            // Vector i of the group is vector k of the block: lanes k * L .. k * L + L - 1 of
+            // its sample memory.
             const std::size_t i = static_cast<std::size_t>(std::countr_zero(act));
             const std::size_t k = s0 * kVectors + i;
             const std::uint32_t lanes = lanes_of(cov, k);
             // Sample positions in pixels (exact in float), then their depth.
-            const F fx = fx_blk + cx.sx[k], fy = fy_row + cx.sy[k];
+            const F fx = fx_blk + sx[k], fy = fy_row + sy[k];
             const F z = depth.at(fx, fy);
             float* dp = dblk + k * L;
             const std::uint32_t pass = test_and_write_depth<K>(dp, z, lanes, keep);
@@ -518,7 +551,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
               passed[k / kVectors] |= std::uint64_t{pass} << ((k % kVectors) * L);
             } else if constexpr (kColor) {  // a depth-only draw shades nothing, keeps colour
               write_color<K>(cx, t, color_planes.data(), flat_color, fx, fy, fx_blk, fy_row, k,
-                             pass, cblk, pixel_color, shaded);
+                             pass, cblk, S, pixel_color, shaded);
             }
           }
         }
@@ -535,7 +568,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             for (std::uint64_t vs = kWrite ? vectors_with_lanes(passed[s]) : 0; vs; vs &= vs - 1) {
               const std::size_t k = static_cast<std::size_t>(s * kVectors + std::countr_zero(vs));
               float* dp = dblk + k * L;
-              const F z = depth.at(fx_blk + cx.sx[k], fy_row + cx.sy[k]);
+              const F z = depth.at(fx_blk + sx[k], fy_row + sy[k]);
               xsimd::select(M::floats(lanes_of(passed, k)), z, F::load_aligned(dp))
                   .store_aligned(dp);
             }
@@ -568,13 +601,13 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   }
 
   // The colour of block vector k where `pass`: the flat colour, or the interpolated one at the
-  // samples (SSAA, fx, fy) or at the pixel centres, shaded once per pixel vector of the block
-  // (pixel_color, `shaded` bit v once vector v's is made).
+  // samples (SSAA, fx, fy) or at the pixel centres, made once per row vector v of the block's
+  // pixels (pixel_color, `shaded` bit v once it is made) and moved to vector k's lanes.
   template <class K>
   [[gnu::always_inline]] static void write_color(const Context& cx, const front::TriangleSetup& t,
                                                  const front::Plane* color_planes, I flat_color,
                                                  F fx, F fy, F fx_blk, F fy_row, std::size_t k,
-                                                 std::uint32_t pass, std::uint32_t* cblk,
+                                                 std::uint32_t pass, std::uint32_t* cblk, int S,
                                                  I (&pixel_color)[kVectors],
                                                  std::uint32_t& shaded) {
     I color;
@@ -583,13 +616,14 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     } else if constexpr (K::kSsaa) {
       color = Sh::interpolate(t, color_planes, fx, fy);
     } else {
-      const std::size_t v = k % kVectors;
+      const std::size_t v = k / static_cast<std::size_t>(S);
       if (!(shaded & (1u << v))) {
         pixel_color[v] = Sh::interpolate(t, color_planes, fx_blk + cx.ln.colf[v] + F(0.5f),
                                          fy_row + cx.ln.rowf[v] + F(0.5f));
         shaded |= 1u << v;
       }
-      color = pixel_color[v];
+      color = K::kOneSample ? pixel_color[v]
+                            : M::permute(pixel_color[v], cx.pick[k % static_cast<std::size_t>(S)]);
     }
     std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + k * L);
     xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
@@ -676,11 +710,11 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     const int p = row * kBlockSize + col;
     if (!((inside >> p) & 1)) return;
     const int S = K::kSamples ? K::kSamples : cx.f.samples;
-    float* dpix = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + p;
+    // The pixel's samples, side by side (pixel-major).
+    const std::size_t first = (static_cast<std::size_t>(blk) * kBlockPixels + p) * S;
+    float* dpix = cx.sc.depth.get() + first;
     [[maybe_unused]] std::uint32_t* cpix =
-        K::kColor != ColorMode::kNone
-            ? cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + p
-            : nullptr;
+        K::kColor != ColorMode::kNone ? cx.sc.color.get() + first : nullptr;
     const float fx_blk = static_cast<float>(px0), fy_row = static_cast<float>(py0);
     const float colf = static_cast<float>(col), rowf = static_cast<float>(row);
     const std::int64_t x = std::int64_t{px0 + col} * kSubpixel,
@@ -694,12 +728,12 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       ++covered;
       const float fx = fx_blk + (colf + cx.ln.oxs[s]), fy = fy_row + (rowf + cx.ln.oys[s]);
       const float z = front::sample_depth(t, fx, fy);
-      float& d = dpix[s * kBlockPixels];
+      float& d = dpix[s];
       if (test && !passes_one<K::kTest>(z, d)) continue;
       if constexpr (K::kWrite) d = z;
       ++written;
       if constexpr (K::kColor == ColorMode::kFlat) {
-        cpix[s * kBlockPixels] = static_cast<std::uint32_t>(Sh::bits_of(t.color));
+        cpix[s] = static_cast<std::uint32_t>(Sh::bits_of(t.color));
       } else if constexpr (K::kColor == ColorMode::kInterpolated) {
         const front::Plane* planes = cx.ln.planes + t.planes_base;
         if (K::kSsaa) {
@@ -709,7 +743,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
               Sh::interpolate(t, planes, F((fx_blk + colf) + 0.5f), F((fy_row + rowf) + 0.5f)));
           shaded = true;
         }
-        cpix[s * kBlockPixels] = pixel_color;
+        cpix[s] = pixel_color;
       }
     }
   }
@@ -824,32 +858,119 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     cx.tile_z_loose = false;
   }
 
-  // Coverage of one sample of a block whose edge values could leave int32 (edges longer than
-  // about 2048 px), in double lanes: every value is an integer below 2^50 in magnitude (the edge
-  // budget of front/fixed_point.hpp is 2^49, a block's offsets 2^36), so each conversion and sum
-  // is exact, and the sign bit is set exactly where a value is negative (an exact zero sum is
-  // +0). e0..e2: the edge values at this sample of the block's first pixel. The scalar int64 loop
-  // this replaces took a quarter of random-large's kernel instructions (callgrind, AVX2).
-  static std::uint64_t coverage_f64(std::int64_t e0, std::int64_t e1, std::int64_t e2,
-                                    const D (&doff)[3][kDVectors]) {
-    const D b0(static_cast<double>(e0)), b1(static_cast<double>(e1)), b2(static_cast<double>(e2));
-    std::uint64_t outside = 0;
-    for (int w = 0; w < kDVectors; ++w)
-      outside |= std::uint64_t{M::signs((b0 + doff[0][w]) | (b1 + doff[1][w]) | (b2 + doff[2][w]))}
-                 << (w * kDLanes);
-    return ~outside;
+  // Coverage of a block of two or more samples, pixel-major, from the edge values c0..c2 at its
+  // first pixel's corner, exact in int32 (the block passed fits32): bit g of the words in `cov`
+  // (little-endian, end to end) set where lane g's sample is inside, as coverage32() does it. A
+  // block row is 8 * S lanes in 8 * S / L vectors (roff: their lanes' offsets
+  // from the row's corner); the values step down a row at a time (down).
+  // A kernel whose traits fix the sample count has the rows inline; the others call one copy
+  // per instruction set that picks the count, not one copy of every count per kernel.
+  template <int kFixed>
+  [[gnu::always_inline]] static void coverage32_rows(std::int32_t c0, std::int32_t c1,
+                                                     std::int32_t c2,
+                                                     const I (&roff)[3][kRowVectors],
+                                                     const I (&down)[3], int S,
+                                                     std::uint64_t* cov) {
+    if constexpr (kFixed > 1)
+      coverage32_rows_of<kFixed>(I(c0), I(c1), I(c2), roff, down, cov);
+    else
+      coverage32_rows_any(c0, c1, c2, roff, down, S, cov);
+  }
+  [[gnu::noinline]] static void coverage32_rows_any(std::int32_t c0, std::int32_t c1,
+                                                    std::int32_t c2,
+                                                    const I (&roff)[3][kRowVectors],
+                                                    const I (&down)[3], int S, std::uint64_t* cov) {
+    switch (S) {
+      case 2:
+        return coverage32_rows_of<2>(I(c0), I(c1), I(c2), roff, down, cov);
+      case 4:
+        return coverage32_rows_of<4>(I(c0), I(c1), I(c2), roff, down, cov);
+      case 8:
+        return coverage32_rows_of<8>(I(c0), I(c1), I(c2), roff, down, cov);
+      default:
+        return coverage32_rows_of<16>(I(c0), I(c1), I(c2), roff, down, cov);
+    }
+  }
+  // The same for a fixed count, so that a row's vectors unroll.
+  template <int S>
+  [[gnu::always_inline]] static void coverage32_rows_of(I c0, I c1, I c2,
+                                                        const I (&roff)[3][kRowVectors],
+                                                        const I (&down)[3], std::uint64_t* cov) {
+    constexpr int kRowBits = kBlockSize * S;  // a row is S bytes
+    const auto outside = [&](int j) {
+      return std::uint64_t{M::signs((c0 + roff[0][j]) | (c1 + roff[1][j]) | (c2 + roff[2][j]))};
+    };
+    if constexpr (kRowBits < 64 && S != 4) std::fill_n(cov, S, std::uint64_t{0});
+    for (int r = 0; r < kBlockSize; ++r) {
+      if constexpr (kRowBits >= 64) {  // 8 and 16 samples: a row is whole words
+        for (int w = 0; w < kRowBits / 64; ++w) {
+          std::uint64_t out = 0;
+          for (int i = 0; i < kVectors; ++i) out |= outside(w * kVectors + i) << (i * L);
+          cov[r * (kRowBits / 64) + w] = ~out;
+        }
+      } else {
+        std::uint64_t out = 0;
+        for (int j = 0; j < kRowBits / L; ++j) out |= outside(j) << (j * L);
+        if constexpr (S == 4) {  // a row is one 32-bit half of a word
+          const auto half = static_cast<std::uint32_t>(~out);
+          std::memcpy(reinterpret_cast<unsigned char*>(cov) + r * 4, &half, sizeof half);
+        } else {
+          constexpr std::uint64_t kRowMask = (std::uint64_t{1} << kRowBits) - 1;
+          cov[r * kRowBits / 64] |= (~out & kRowMask) << (r * kRowBits % 64);
+        }
+      }
+      c0 += down[0];
+      c1 += down[1];
+      c2 += down[2];
+    }
   }
 
-  // doff[e][w]: edge e's offset from a block's corner to the pixels of double vector w, exact.
-  static void build_doff(const std::int64_t (&a)[3], const std::int64_t (&b)[3],
-                         D (&doff)[3][kDVectors]) {
-    for (int w = 0; w < kDVectors; ++w) {
+  // Coverage of a block whose edge values could leave int32 (edges longer than about 2048 px), in
+  // double lanes: every value is an integer below 2^50 in magnitude (the edge budget of
+  // front/fixed_point.hpp is 2^49, a block's offsets 2^36), so each conversion and sum is exact,
+  // and the sign bit is set exactly where a value is negative (an exact zero sum is +0). eorg:
+  // the edge values at the block's first pixel corner; doff from build_doff(). Bits as
+  // coverage32_rows() gives them. The scalar int64 loop this replaces took a quarter of
+  // random-large's kernel instructions (callgrind, AVX2).
+  static void coverage_f64(const std::int64_t (&eorg)[3], const std::int64_t (&b)[3], int S,
+                           const D (&doff)[3][kDOffsets], std::uint64_t* cov) {
+    // One sample: the 64 pixel centres (doff holds each pixel's offset, centre included);
+    // more: a block row of lanes at a time.
+    const int row_dvectors = S == 1 ? kDVectors : kBlockSize * S / kDLanes;
+    const int rows = S == 1 ? 1 : kBlockSize;
+    constexpr int kPerWord = 64 / kDLanes;
+    std::uint64_t outside = 0;
+    int k = 0;
+    for (int r = 0; r < rows; ++r) {
+      const std::int64_t down = static_cast<std::int64_t>(r) * kSubpixel;
+      const D b0(static_cast<double>(eorg[0] + b[0] * down)),
+          b1(static_cast<double>(eorg[1] + b[1] * down)),
+          b2(static_cast<double>(eorg[2] + b[2] * down));
+      for (int w = 0; w < row_dvectors; ++w, ++k) {
+        outside |=
+            std::uint64_t{M::signs((b0 + doff[0][w]) | (b1 + doff[1][w]) | (b2 + doff[2][w]))}
+            << ((k % kPerWord) * kDLanes);
+        if (k % kPerWord == kPerWord - 1) {
+          cov[k / kPerWord] = ~outside;
+          outside = 0;
+        }
+      }
+    }
+  }
+  // doff[e][w]: edge e's offset, exact, from a block's first pixel corner to the lanes of double
+  // vector w: of the block (one sample, pixel centres), or of a block row (pixel-major samples).
+  static void build_doff(const std::int64_t (&a)[3], const std::int64_t (&b)[3], const Context& cx,
+                         int S, D (&doff)[3][kDOffsets]) {
+    const int count = S == 1 ? kDVectors : kBlockSize * S / kDLanes;
+    for (int w = 0; w < count; ++w) {
       alignas(64) double off[3][kDLanes];
       for (int l = 0; l < kDLanes; ++l) {
-        const int p = w * kDLanes + l;
-        for (int e = 0; e < 3; ++e)
-          off[e][l] = static_cast<double>(a[e] * kSubpixel * (p % kBlockSize) +
-                                          b[e] * kSubpixel * (p / kBlockSize));
+        const int g = w * kDLanes + l;
+        // The lane's position from the corner, in 16.8.
+        const std::int64_t x =
+            S == 1 ? (g % kBlockSize) * kSubpixel + kHalf : (g / S) * kSubpixel + cx.soff[0][g % S];
+        const std::int64_t y = S == 1 ? (g / kBlockSize) * kSubpixel + kHalf : cx.soff[1][g % S];
+        for (int e = 0; e < 3; ++e) off[e][l] = static_cast<double>(a[e] * x + b[e] * y);
       }
       for (int e = 0; e < 3; ++e) doff[e][w] = D::load_aligned(off[e]);
     }
@@ -870,7 +991,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         const std::size_t din =
             static_cast<std::size_t>(tile.y0 + y) * f.depth_stride + std::size_t(tile.x0 + x) * S;
         for (int s = 0; s < S; ++s) {
-          const std::size_t out = (static_cast<std::size_t>(blk) * S + s) * kBlockPixels + p;
+          const std::size_t out = (static_cast<std::size_t>(blk) * kBlockPixels + p) * S + s;
           if (f.load_color) cx.sc.color[out] = std::bit_cast<std::uint32_t>(f.sample_color[in + s]);
           if (f.load_depth) cx.sc.depth[out] = f.sample_depth[din + s];
         }
@@ -896,7 +1017,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           const std::size_t dout =
               static_cast<std::size_t>(tile.y0 + y) * f.depth_stride + std::size_t(tile.x0 + x) * S;
           for (int s = 0; s < S; ++s) {
-            const std::size_t in = (static_cast<std::size_t>(blk) * S + s) * kBlockPixels + p;
+            const std::size_t in = (static_cast<std::size_t>(blk) * kBlockPixels + p) * S + s;
             // (Sample colour is asked for only from a tile that keeps colour.)
             if (f.sample_color) f.sample_color[out + s] = std::bit_cast<Rgba8>(cx.sc.color[in]);
             if (f.sample_depth)
@@ -1027,11 +1148,11 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     if (valid == ~std::uint64_t{0}) return HizSimd<A>::bounds_of(d, S * kBlockPixels);
     // A block cut by the image's right or bottom edge.
     float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-    for (int s = 0; s < S; ++s)
-      for (int p = 0; p < kBlockPixels; ++p)
-        if ((valid >> p) & 1) {
-          lo = std::min(lo, d[s * kBlockPixels + p]);
-          hi = std::max(hi, d[s * kBlockPixels + p]);
+    for (int p = 0; p < kBlockPixels; ++p)
+      if ((valid >> p) & 1)
+        for (int s = 0; s < S; ++s) {
+          lo = std::min(lo, d[p * S + s]);
+          hi = std::max(hi, d[p * S + s]);
         }
     return {lo, hi};
   }
@@ -1048,6 +1169,60 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     return static_cast<std::uint64_t>(
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0)
             .count());
+  }
+
+  /// What the walker needs of a block's lanes for a sample count (Context::sx .. pick), made
+  /// once per count: lane g = k * L + l of vector k holds sample g % S of pixel g / S.
+  struct LaneTables {
+    F sx[kMaxSamples * kVectors], sy[kMaxSamples * kVectors];
+    I rx[kRowVectors], ry[kRowVectors];
+    I pick[kMaxSamples];
+  };
+  static const LaneTables& lane_tables(int S) {
+    static const std::array<LaneTables, 5> tables = [] {
+      std::array<LaneTables, 5> t{};
+      for (int k2 = 0; k2 < 5; ++k2) build_lane_tables(1 << k2, t[k2]);
+      return t;
+    }();
+    return tables[std::countr_zero(static_cast<unsigned>(S))];
+  }
+  static void build_lane_tables(int S, LaneTables& t) {
+    const std::span<const SampleOffset> pattern = sample_pattern(S);
+    if (pattern.size() != static_cast<std::size_t>(S)) return;  // no such pattern (2x)
+    float ox[kMaxSamples], oy[kMaxSamples];
+    std::int64_t sx16[kMaxSamples], sy16[kMaxSamples];
+    for (int s = 0; s < S; ++s) {
+      // The reference's sample position is px + 0.5 + dx / 16; every term and sum is exact.
+      ox[s] = 0.5f + static_cast<float>(pattern[s].dx) * (1.0f / 16.0f);
+      oy[s] = 0.5f + static_cast<float>(pattern[s].dy) * (1.0f / 16.0f);
+      sx16[s] = kHalf + pattern[s].dx * kSampleOffsetScale;
+      sy16[s] = kHalf + pattern[s].dy * kSampleOffsetScale;
+    }
+    for (int k = 0; k < S * kVectors; ++k) {
+      alignas(64) float xs[L], ys[L];
+      for (int l = 0; l < L; ++l) {
+        const int g = k * L + l, p = g / S, smp = g % S;
+        xs[l] = static_cast<float>(p % kBlockSize) + ox[smp];
+        ys[l] = static_cast<float>(p / kBlockSize) + oy[smp];
+      }
+      t.sx[k] = F::load_aligned(xs);
+      t.sy[k] = F::load_aligned(ys);
+    }
+    for (int j = 0; S > 1 && j < kBlockSize * S / L; ++j) {
+      alignas(64) std::int32_t xs[L], ys[L];
+      for (int l = 0; l < L; ++l) {
+        const int g = j * L + l;
+        xs[l] = static_cast<std::int32_t>((g / S) * kSubpixel + sx16[g % S]);
+        ys[l] = static_cast<std::int32_t>(sy16[g % S]);
+      }
+      t.rx[j] = I::load_aligned(xs);
+      t.ry[j] = I::load_aligned(ys);
+    }
+    for (int r = 0; r < S; ++r) {
+      alignas(64) std::int32_t lanes[L];
+      for (int l = 0; l < L; ++l) lanes[l] = (r * L + l) / S;
+      t.pick[r] = I::load_aligned(lanes);
+    }
   }
 
   static void run(const TileFrame& f, const TileRect& tile, std::span<const BinRun> bin,
@@ -1078,6 +1253,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                {},
                {},
                {},
+               {},
+               {},
+               {},
                {}};
     for (int v = 0; v < kVectors; ++v) {
       cx.col[v] = lane_col(v);
@@ -1095,11 +1273,13 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       cx.ln.oy[s] = F(cx.ln.oys[s]);
       cx.soff[0][s] = kHalf + o.dx * kSampleOffsetScale;
       cx.soff[1][s] = kHalf + o.dy * kSampleOffsetScale;
-      for (int v = 0; v < kVectors; ++v) {
-        cx.sx[s * kVectors + v] = cx.ln.colf[v] + cx.ln.ox[s];
-        cx.sy[s * kVectors + v] = cx.ln.rowf[v] + cx.ln.oy[s];
-      }
     }
+    const LaneTables& lt = lane_tables(f.samples);
+    cx.sx = lt.sx;
+    cx.sy = lt.sy;
+    cx.rx = lt.rx;
+    cx.ry = lt.ry;
+    cx.pick = lt.pick;
     cx.queue.color_base = sc.color.get();
     // Clear the buffers the frame uses, and the tile's hierarchical z.
     const std::size_t n = static_cast<std::size_t>(cx.blocks) * f.samples * kBlockPixels;

@@ -22,6 +22,7 @@ struct ResolveSimd : simd::LaneTypes<A> {
   using B = simd::LaneTypes<A>;
   using B::L;
   using typename B::I;
+  using typename B::M;
   static constexpr int kBlockSize = raster::kBlockSize;
   static constexpr int kBlockPixels = raster::kBlockPixels;
   static constexpr int kVectors = kBlockPixels / L;
@@ -29,38 +30,60 @@ struct ResolveSimd : simd::LaneTypes<A> {
   /// The bytes of a packed pixel that stay where they are when r and b trade places.
   static constexpr std::int32_t kGreenAlpha = static_cast<std::int32_t>(0xff00ff00u);
 
+  /// The box means of the L pixels of row vector v of a block (cblk): their kS samples each are
+  /// the kS vectors from v * kS, a pixel's side by side (raster/tile.hpp).
+  template <int kS>
+  [[gnu::always_inline]] static I means(const std::int32_t* cblk, int v) {
+    I c[kS];
+    for (int i = 0; i < kS; ++i) c[i] = I::load_aligned(cblk + (v * kS + i) * L);
+    return M::template means<kS>(c);
+  }
+
   /// The box filter of every pixel of a tile into `image` (rows `image_stride` bytes apart; b,
-  /// g, r, a order when `bgra`): `color` is the tile's samples, [block][sample][pixel of
-  /// block], `side` blocks a row; `resolved` is scratch of kMaxTileSize² pixels.
+  /// g, r, a order when `bgra`): `color` is the tile's samples, [block][pixel of block][sample]
+  /// (raster/tile.hpp), `side` blocks a row; `resolved` is scratch of kMaxTileSize² pixels.
   static void box_tile(const std::uint32_t* color, int side, int S, const raster::TileRect& tile,
                        std::uint32_t* resolved, std::uint8_t* image, std::size_t image_stride,
                        bool bgra) {
-    const int shift = std::countr_zero(static_cast<unsigned>(S));
-    // Two channels per 32-bit lane, one in each 16-bit half (r and b, then g and a): a half's sum
-    // is at most 16 * 255 + 8 < 2^16, so it never carries into the other, and after the shift
-    // the mask drops what the upper half shifted into the lower.
-    const I round((S / 2) * 0x00010001), even(0x00ff00ff);
+    switch (S) {
+      case 1:
+        box_blocks<1>(color, side, tile, resolved, bgra);
+        break;
+      case 4:
+        box_blocks<4>(color, side, tile, resolved, bgra);
+        break;
+      case 8:
+        box_blocks<8>(color, side, tile, resolved, bgra);
+        break;
+      default:
+        box_blocks<16>(color, side, tile, resolved, bgra);
+        break;
+    }
+    for (int y = 0; y < tile.height; ++y) {
+      // Rgba8 is four bytes in r, g, b, a order, the little-endian layout of the packed words.
+      std::memcpy(image + static_cast<std::size_t>(tile.y0 + y) * image_stride +
+                      static_cast<std::size_t>(tile.x0) * sizeof(Rgba8),
+                  resolved + y * kMaxTileSize,
+                  sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
+    }
+  }
+
+  /// The box means of the tile's blocks into `resolved`, for kS samples a pixel.
+  template <int kS>
+  static void box_blocks(const std::uint32_t* color, int side, const raster::TileRect& tile,
+                         std::uint32_t* resolved, bool bgra) {
     for (int by = 0; by * kBlockSize < tile.height; ++by) {
       for (int bx = 0; bx * kBlockSize < tile.width; ++bx) {
         const int blk = by * side + bx;
         const std::int32_t* cblk = reinterpret_cast<const std::int32_t*>(
-            color + static_cast<std::size_t>(blk) * S * kBlockPixels);
+            color + static_cast<std::size_t>(blk) * kS * kBlockPixels);
         for (int v = 0; v < kVectors; ++v) {
+          // resolve::box_mean() per byte: (sum + S/2) / S.
           I out;
-          if (S == 1) {
+          if constexpr (kS == 1)
             out = I::load_aligned(cblk + v * L);
-          } else {
-            I rb(0), ga(0);
-            for (int s = 0; s < S; ++s) {
-              const I c = I::load_aligned(cblk + s * kBlockPixels + v * L);
-              rb += c & even;
-              ga += (c >> 8) & even;
-            }
-            // resolve::box_mean(): (sum + S/2) / S, with S a power of two.
-            rb = ((rb + round) >> shift) & even;
-            ga = ((ga + round) >> shift) & even;
-            out = rb | (ga << 8);
-          }
+          else
+            out = means<kS>(cblk, v);
           // b, g, r, a for a BGRA surface: r and b trade bytes 0 and 2.
           if (bgra)
             out = (out & I(kGreenAlpha)) | ((out >> 16) & I(0xff)) | ((out & I(0xff)) << 16);
@@ -77,13 +100,6 @@ struct ResolveSimd : simd::LaneTypes<A> {
           }
         }
       }
-    }
-    for (int y = 0; y < tile.height; ++y) {
-      // Rgba8 is four bytes in r, g, b, a order, the little-endian layout of the packed words.
-      std::memcpy(image + static_cast<std::size_t>(tile.y0 + y) * image_stride +
-                      static_cast<std::size_t>(tile.x0) * sizeof(Rgba8),
-                  resolved + y * kMaxTileSize,
-                  sizeof(Rgba8) * static_cast<std::size_t>(tile.width));
     }
   }
 };

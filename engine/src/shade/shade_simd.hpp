@@ -70,7 +70,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     alignas(64) float varying[kMaxVaryings][kRow];
     alignas(64) float ddx[kMaxVaryings][kRow], ddy[kMaxVaryings][kRow];
     /// Each entry's first colour sample, as an index into color_base, and the samples it writes
-    /// (bit s: index + s * kBlockPixels).
+    /// (bit s: index + s; a pixel's samples are side by side, raster/tile.hpp).
     alignas(64) std::int32_t color[kRow];
     alignas(64) std::int32_t samples[kRow]{};
     std::uint64_t front_facing = 0;        ///< bit l: entry l's triangle faces the viewer
@@ -324,7 +324,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
       std::uint32_t* first = q.color_base + q.color[l];
       const auto src = std::bit_cast<Rgba8>(c[l]);
       for (std::uint32_t bits = static_cast<std::uint32_t>(q.samples[l]); bits; bits &= bits - 1) {
-        std::uint32_t* word = first + std::countr_zero(bits) * kBlockPixels;
+        std::uint32_t* word = first + std::countr_zero(bits);
         *word = std::bit_cast<std::uint32_t>(shade::blend_over(src, std::bit_cast<Rgba8>(*word)));
       }
     }
@@ -343,7 +343,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
         const I bits = I::load_aligned(q.samples + j * L);
         for (int k = 0; k < span; ++k) {
           const auto passed = (bits & I(1 << k)) != I(0);
-          xsimd::select(passed, first + I(k * kBlockPixels), spare).store_aligned(at[k] + j * L);
+          xsimd::select(passed, first + I(k), spare).store_aligned(at[k] + j * L);
         }
       }
     };
@@ -377,7 +377,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
       const I samples = I::load_aligned(q.samples + j * L);
       for (int k = 0; k < q.span; ++k) {
         const std::uint32_t lanes = M::bits((samples & I(1 << k)) != I(0)) & queued;
-        M::scatter(base, index + I(k * kBlockPixels), packed[j], lanes);
+        M::scatter(base, index + I(k), packed[j], lanes);
       }
     }
   }
@@ -400,17 +400,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     begin(q, t, ln.planes);
     // Room for the last row's eight positions and for the last vector's lanes past the pixels.
     alignas(64) std::int32_t at[kBlockPixels + std::max(8, L)];
-    int m = 0;
-    // The rows from the first pixel's to the last's (pixels is not empty).
-    const int last = (63 - std::countl_zero(pixels)) / raster::kBlockSize;
-    for (int r = std::countr_zero(pixels) / raster::kBlockSize; r <= last; ++r) {
-      const int shift = r * raster::kBlockSize;
-      const auto row = static_cast<unsigned>(pixels >> shift) & 0xffu;
-      const std::array<std::int32_t, 8>& columns = kSetBitPositions[row];
-      for (int i = 0; i < 8; ++i) at[m + i] = columns[i] + shift;
-      m += std::popcount(row);
-    }
-    if constexpr (L > 8) std::fill_n(at + m + 8, L - 8, 0);  // lanes the rows did not write
+    const int m = list_bits(pixels, at);
     for (int j = 0; j < m; j += L) {
       const I p = I::load_aligned(at + j);
       const I col = p & I(raster::kBlockSize - 1), row = p >> 3;  // 8 pixels a row
@@ -419,41 +409,137 @@ struct ShadeSimd : simd::LaneTypes<A> {
       const int n = q.n;
       x.store_unaligned(q.x + n);
       y.store_unaligned(q.y + n);
-      (I(color) + p).store_unaligned(q.color + n);
+      (I(color) + p * I(S)).store_unaligned(q.color + n);
       sample_bits(passed, S, p).store_unaligned(q.samples + n);
       q.n = n + std::min(L, m - j);
       if (q.n >= kShaderBatch) flush(q);
     }
   }
-  /// Per lane, bit k set where sample k of block pixel p (0..63) passed: at 4x from the four
-  /// words at once, otherwise bit p % 32 of one half of each sample's word.
+  /// The positions of the bits of `bits` (not empty) in order into `at`, a byte of it at a time
+  /// from a table, over the bytes from the first bit's to the last's; returns how many. `at`
+  /// needs room for 64 + max(8, L): the lanes past the count hold other positions or zeros.
+  static int list_bits(std::uint64_t bits, std::int32_t* at) {
+    int m = 0;
+    const int last = (63 - std::countl_zero(bits)) / 8;
+    for (int r = std::countr_zero(bits) / 8; r <= last; ++r) {
+      const int shift = r * 8;
+      const auto byte = static_cast<unsigned>(bits >> shift) & 0xffu;
+      const std::array<std::int32_t, 8>& columns = kSetBitPositions[byte];
+      for (int i = 0; i < 8; ++i) at[m + i] = columns[i] + shift;
+      m += std::popcount(byte);
+    }
+    if constexpr (L > 8) std::fill_n(at + m + 8, L - 8, 0);  // lanes the bytes did not write
+    return m;
+  }
+  /// The samples of a block set in `passed` (SSAA: each is shaded at its own position), into the
+  /// queue in the order of the block's sample memory, L at a time. `color` is the index of the
+  /// block's first colour sample in the queue's color_base.
+  static void enqueue_lanes(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t, int S,
+                            const std::uint64_t* passed, std::int32_t color, F fx_blk, F fy_blk) {
+    begin(q, t, ln.planes);
+    const int log2s = std::countr_zero(static_cast<unsigned>(S));
+    alignas(64) std::int32_t at[kBlockPixels + std::max(8, L)];
+    for (int w = 0; w < S; ++w) {
+      if (!passed[w]) continue;
+      const int m = list_bits(passed[w], at);
+      for (int j = 0; j < m; j += L) {
+        const I g = I::load_aligned(at + j) + I(w * 64);  // the sample's word in the block
+        const I p = g >> log2s, smp = g & I(S - 1);
+        const F x =
+            (fx_blk + xsimd::to_float(p & I(raster::kBlockSize - 1))) + F::gather(ln.oxs, smp);
+        const F y = (fy_blk + xsimd::to_float(p >> 3)) + F::gather(ln.oys, smp);
+        const int n = q.n;
+        x.store_unaligned(q.x + n);
+        y.store_unaligned(q.y + n);
+        (I(color) + g).store_unaligned(q.color + n);
+        I(1).store_unaligned(q.samples + n);
+        q.n = n + std::min(L, m - j);
+        if (q.n >= kShaderBatch) flush(q);
+      }
+    }
+  }
+  /// Per lane, bit k set where sample k of block pixel p (0..63) passed: bits p * S .. p * S +
+  /// S - 1 of the passed words, which lie in one 32-bit word (S divides 32). (Lanes past the
+  /// listed pixels hold any value: masked to a pixel, so that the gather stays in `passed`.)
   static I sample_bits(const std::uint64_t* passed, int S, I p) {
     if (S == 1) return I(1);  // a queued pixel's one sample passed
-    if (S == 4) return M::pixel_nibbles(passed, p);
-    const auto high = p >= I(32);
-    const I shift = p & I(31);
-    I samples(0);
-    for (int k = 0; k < S; ++k) {
-      const I lo(static_cast<std::int32_t>(static_cast<std::uint32_t>(passed[k])));
-      const I hi(static_cast<std::int32_t>(static_cast<std::uint32_t>(passed[k] >> 32)));
-      samples = samples | (((xsimd::select(high, hi, lo) >> shift) & I(1)) << k);
-    }
-    return samples;
+    const I g = (p & I(raster::kBlockPixels - 1)) * I(S);
+    const I word = I::gather(reinterpret_cast<const std::int32_t*>(passed), g >> 5);
+    return (word >> (g & I(31))) & I((1 << S) - 1);
   }
-  /// Sample s of the pixels of a block's batch g set in `bits` (SSAA), into the queue at the
-  /// sample's position. Every vector of the batch is appended, empty ones too (they add no
-  /// entry): whether a vector is empty is data, and a branch on it mispredicted more than the
-  /// work costs.
-  static void enqueue_samples(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t, int g,
-                              int s, std::uint32_t bits, std::int32_t color, F fx_blk, F fy_blk) {
-    begin(q, t, ln.planes);
-    for (int j = 0; j < kBatchVectors; ++j) {
-      const std::uint32_t lanes = (bits >> (j * L)) & kLaneBits;
-      const int v = g * kBatchVectors + j;
-      const F x = fx_blk + ln.colf[v], y = fy_blk + ln.rowf[v];
-      append(q, lanes, x + ln.ox[s], y + ln.oy[s], I(color + s * kBlockPixels) + ln.pixel[v], I(1));
+  // Writes (or blends) colour[j] lane l to sample s of pixel g * 16 + j * L + l of a block, for
+  // the pixels set in `bits`.
+  static void write_batch(const I (&color)[kBatchVectors], std::uint32_t bits, int g, int s, int S,
+                          bool blend, std::uint32_t* cblk) {
+    alignas(64) std::int32_t c[kShaderBatch];
+    for (int j = 0; j < kBatchVectors; ++j) color[j].store_aligned(c + j * L);
+    for (; bits; bits &= bits - 1) {
+      const int l = std::countr_zero(bits);
+      std::uint32_t& word = cblk[static_cast<std::size_t>(g * kShaderBatch + l) * S + s];
+      const auto src = static_cast<std::uint32_t>(c[l]);
+      word = blend ? std::bit_cast<std::uint32_t>(
+                         shade::blend_over(std::bit_cast<Rgba8>(src), std::bit_cast<Rgba8>(word)))
+                   : src;
     }
-    if (q.n >= kShaderBatch) flush(q);
+  }
+  // Writes (or blends) colour[j] lane l to each passed sample of pixel g * kShaderBatch + j * L
+  // + l of a block, for the pixels set in `bits`: a pixel's S samples are adjacent words, so a
+  // pixel whose samples all passed takes one fill.
+  static void write_pixels(const I (&color)[kBatchVectors], std::uint32_t bits, int g, int S,
+                           bool blend, const std::uint64_t* passed, std::uint32_t* cblk) {
+    alignas(64) std::int32_t c[kShaderBatch];
+    for (int j = 0; j < kBatchVectors; ++j) color[j].store_aligned(c + j * L);
+    const std::uint32_t all = (std::uint32_t{1} << S) - 1;  // S <= 16
+    for (; bits; bits &= bits - 1) {
+      const int l = std::countr_zero(bits);
+      const int first = (g * kShaderBatch + l) * S;  // the pixel's first sample bit and word
+      auto mine = static_cast<std::uint32_t>(passed[first / 64] >> (first % 64)) & all;
+      std::uint32_t* word = cblk + first;
+      const auto src = static_cast<std::uint32_t>(c[l]);
+      if (!blend && mine == all) {
+        fill_samples(word, S, src);
+        continue;
+      }
+      for (; mine; mine &= mine - 1) {
+        std::uint32_t& w = word[std::countr_zero(mine)];
+        w = blend ? std::bit_cast<std::uint32_t>(
+                        shade::blend_over(std::bit_cast<Rgba8>(src), std::bit_cast<Rgba8>(w)))
+                  : src;
+      }
+    }
+  }
+  // `value` into a pixel's S adjacent sample words, by a fill of constant length per count.
+  static void fill_samples(std::uint32_t* word, int S, std::uint32_t value) {
+    switch (S) {
+      case 1:
+        word[0] = value;
+        break;
+      case 2:
+        std::fill_n(word, 2, value);
+        break;
+      case 4:
+        std::fill_n(word, 4, value);
+        break;
+      case 8:
+        std::fill_n(word, 8, value);
+        break;
+      default:
+        std::fill_n(word, 16, value);
+        break;
+    }
+  }
+  // Clears every sample of the pixels set in `pixels` from a block's passed words.
+  static void clear_pixels(std::uint64_t* passed, int S, std::uint64_t pixels) {
+    std::uint64_t words[raster::kMaxSamples];
+    raster::spread_pixels(pixels, S, words);
+    for (int w = 0; w < S; ++w) passed[w] &= ~words[w];
+  }
+  // Clears sample s of the pixels set in `pixels` from a block's passed words.
+  static void clear_samples(std::uint64_t* passed, int S, std::uint64_t pixels, int s) {
+    for (; pixels; pixels &= pixels - 1) {
+      const int bit = std::countr_zero(pixels) * S + s;
+      passed[bit / 64] &= ~(std::uint64_t{1} << (bit % 64));
+    }
   }
 
   // Colours a block of a generic draw where its samples passed: per pixel at the pixel centre
@@ -475,15 +561,10 @@ struct ShadeSimd : simd::LaneTypes<A> {
     const F fx_blk(static_cast<float>(px0)), fy_blk(static_cast<float>(py0));
     // The block's first colour sample as a queue entry's index, for a queued shader.
     const auto first = queued ? static_cast<std::int32_t>(cblk - q.color_base) : 0;
+    // A queued shader under SSAA queues every passed sample of the block.
+    if (queued && ssaa) return enqueue_lanes(q, ln, t, S, passed, first, fx_blk, fy_blk);
     // Pixels with a passed sample, once for the block: only their batches are visited.
-    std::uint64_t any_pixel = 0;
-    if (S == 1) {
-      any_pixel = passed[0];
-    } else if (S == 4) {
-      any_pixel = (passed[0] | passed[1]) | (passed[2] | passed[3]);
-    } else {
-      for (int s = 0; s < S; ++s) any_pixel |= passed[s];
-    }
+    std::uint64_t any_pixel = raster::pixels_of(passed, S);
     // A queued shader (MSAA) shades the batches it covers whole at once, and queues the pixels
     // of the others: found without a branch, since most blocks of a small triangle have none.
     std::uint64_t partial = 0;
@@ -501,38 +582,28 @@ struct ShadeSimd : simd::LaneTypes<A> {
       const int shift = g * kShaderBatch;
       const auto any = static_cast<std::uint32_t>(any_pixel >> shift) & kBatchBits;
       any_pixel &= ~(std::uint64_t{kBatchBits} << shift);
-      if (queued && !ssaa) flush(q);
-      I pixel[kBatchVectors];
-      std::uint32_t dropped = 0;  // pixels (MSAA) the shader discarded
-      if (!ssaa) dropped = batch_colors(ln, t, sh, g, fx_blk, fy_blk, F(0.5f), F(0.5f), any, pixel);
-      for (int s = 0; s < S; ++s) {
-        std::uint32_t bits = static_cast<std::uint32_t>(passed[s] >> shift) & kBatchBits;
-        if (!bits) continue;
-        if (queued && ssaa) {
-          if (bits != kBatchBits) {
-            enqueue_samples(q, ln, t, g, s, bits, first, fx_blk, fy_blk);
-            continue;
+      if (ssaa) {
+        for (int s = 0; s < S; ++s) {
+          std::uint32_t bits =
+              static_cast<std::uint32_t>(raster::sample_pixels(passed, S, s) >> shift) & kBatchBits;
+          if (!bits) continue;
+          I sample[kBatchVectors];
+          const std::uint32_t dropped =
+              batch_colors(ln, t, sh, g, fx_blk, fy_blk, ln.ox[s], ln.oy[s], bits, sample);
+          if (dropped) {
+            clear_samples(passed, S, std::uint64_t{dropped} << shift, s);
+            bits &= ~dropped;
           }
-          flush(q);
+          write_batch(sample, bits, g, s, S, blend, cblk);
         }
-        I sample[kBatchVectors];
-        if (ssaa)
-          dropped = batch_colors(ln, t, sh, g, fx_blk, fy_blk, ln.ox[s], ln.oy[s], bits, sample);
-        if (dropped) {
-          passed[s] &= ~(std::uint64_t{dropped} << shift);
-          bits &= ~dropped;
-        }
-        const I* color = ssaa ? sample : pixel;
-        for (int j = 0; j < kBatchVectors; ++j) {
-          const std::uint32_t lanes = (bits >> (j * L)) & kLaneBits;
-          if (!lanes) continue;
-          std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + s * kBlockPixels +
-                                                             (g * kBatchVectors + j) * L);
-          const I dst = I::load_aligned(cp);
-          const I c = blend ? blend_over(color[j], dst) : color[j];
-          xsimd::select(M::ints(lanes), c, dst).store_aligned(cp);
-        }
+        continue;
       }
+      if (queued) flush(q);
+      I pixel[kBatchVectors];
+      const std::uint32_t dropped =
+          batch_colors(ln, t, sh, g, fx_blk, fy_blk, F(0.5f), F(0.5f), any, pixel);
+      if (dropped) clear_pixels(passed, S, std::uint64_t{dropped} << shift);
+      write_pixels(pixel, any & ~dropped, g, S, blend, passed, cblk);
     }
     // After the whole batches: the queue keeps the draw's order, and a triangle's pixels are
     // distinct, so its own writes may come in any order.
