@@ -33,7 +33,8 @@ FRAME_STAGES = [
 # stage gives it, and a chain that names none is the walk.
 PIXEL_PATH = re.compile(r"::(pixel_impl|few_pixels|pixel_samples)<")
 KERNEL_STAGES = [
-    ("coverage", re.compile(r"::(coverage32|coverage32_rows|coverage_f64|build_doff|vectors_with_lanes|lanes_of)\(")),
+    ("coverage", re.compile(r"::(coverage32|coverage32_rows|coverage32_rows_of|coverage32_rows_any|"
+                            r"coverage_f64|build_doff|vectors_with_lanes|lanes_of)(<[^()]*>)?\(")),
     ("depth", re.compile(r"::(DepthLanes::at|test_and_write_depth<|passes<|take_plane\(|record_plane\()")),
     ("colour", re.compile(r"::(write_color<|color_generic\()|ShadeSimd<")),
     ("hierarchical z", re.compile(
