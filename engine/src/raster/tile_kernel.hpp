@@ -1262,7 +1262,6 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       cx.row[v] = lane_row(v);
       cx.ln.colf[v] = xsimd::to_float(cx.col[v]);
       cx.ln.rowf[v] = xsimd::to_float(cx.row[v]);
-      cx.ln.pixel[v] = cx.col[v] + cx.row[v] * I(kBlockSize);
     }
     for (int s = 0; s < f.samples; ++s) {
       const SampleOffset o = cx.pattern[s];

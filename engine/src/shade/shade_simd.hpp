@@ -51,7 +51,6 @@ struct ShadeSimd : simd::LaneTypes<A> {
     F colf[kVectors], rowf[kVectors];
     F ox[raster::kMaxSamples], oy[raster::kMaxSamples];
     float oxs[raster::kMaxSamples], oys[raster::kMaxSamples];  ///< ox, oy as scalars
-    I pixel[kVectors];  ///< each vector's pixel indices in the block: v * L + lane
     const front::Plane* planes = nullptr;
   };
 
@@ -214,20 +213,6 @@ struct ShadeSimd : simd::LaneTypes<A> {
       const I a = unorm8(F::load_aligned(res.a + j * L) * c255);
       out[j] = r | (g << 8) | (b << 16) | (a << 24);
     }
-  }
-
-  /// Appends the lanes set in `lanes` of one vector to the queue, packed: shading positions
-  /// (x, y), each entry's first colour sample and the samples it writes; complete() makes their
-  /// varyings. The queue must hold fewer than kShaderBatch entries before a vector's or a
-  /// batch's appends (its rows have room for a batch more). The lanes past the packed ones are
-  /// overwritten by the next append, or zeroed by flush().
-  static void append(ShadeQueue& q, std::uint32_t lanes, F x, F y, I color, I samples) {
-    const int n = q.n;
-    M::compress(x, lanes).store_unaligned(q.x + n);
-    M::compress(y, lanes).store_unaligned(q.y + n);
-    M::compress(color, lanes).store_unaligned(q.color + n);
-    M::compress(samples, lanes).store_unaligned(q.samples + n);
-    q.n = n + std::popcount(lanes);
   }
 
   /// Makes the varyings and facing of the pending entries (q.pending..q.n-1), those of one
@@ -475,11 +460,8 @@ struct ShadeSimd : simd::LaneTypes<A> {
     for (int j = 0; j < kBatchVectors; ++j) color[j].store_aligned(c + j * L);
     for (; bits; bits &= bits - 1) {
       const int l = std::countr_zero(bits);
-      std::uint32_t& word = cblk[static_cast<std::size_t>(g * kShaderBatch + l) * S + s];
-      const auto src = static_cast<std::uint32_t>(c[l]);
-      word = blend ? std::bit_cast<std::uint32_t>(
-                         shade::blend_over(std::bit_cast<Rgba8>(src), std::bit_cast<Rgba8>(word)))
-                   : src;
+      put(cblk[static_cast<std::size_t>(g * kShaderBatch + l) * S + s],
+          static_cast<std::uint32_t>(c[l]), blend);
     }
   }
   // Writes (or blends) colour[j] lane l to each passed sample of pixel g * kShaderBatch + j * L
@@ -500,13 +482,14 @@ struct ShadeSimd : simd::LaneTypes<A> {
         fill_samples(word, S, src);
         continue;
       }
-      for (; mine; mine &= mine - 1) {
-        std::uint32_t& w = word[std::countr_zero(mine)];
-        w = blend ? std::bit_cast<std::uint32_t>(
-                        shade::blend_over(std::bit_cast<Rgba8>(src), std::bit_cast<Rgba8>(w)))
-                  : src;
-      }
+      for (; mine; mine &= mine - 1) put(word[std::countr_zero(mine)], src, blend);
     }
+  }
+  // `src` into a sample's colour word, or blended over it.
+  static void put(std::uint32_t& word, std::uint32_t src, bool blend) {
+    word = blend ? std::bit_cast<std::uint32_t>(
+                       shade::blend_over(std::bit_cast<Rgba8>(src), std::bit_cast<Rgba8>(word)))
+                 : src;
   }
   // `value` into a pixel's S adjacent sample words, by a fill of constant length per count.
   static void fill_samples(std::uint32_t* word, int S, std::uint32_t value) {
