@@ -996,3 +996,82 @@ TEST(FastPath, OccludersAreSortedFromTwoTilesOfArea) {
     EXPECT_EQ(run(true, true, isa), std::uint64_t{2 * n * n + 1}) << what;          // in order
   }
 }
+
+// Triangles whose boxes start at every row and column offset in a block, 1 to 17 px tall and
+// wide: boxes within 2×2 blocks take the small-box walker (coverage of the rows a box meets
+// only), taller or wider ones the block walker, and boxes of a few pixels the one-pixel path.
+// Flat, per-vertex and shaded colour, depth-only draws, at the sample counts whose kernels have
+// the small-box walker (1 and 4) and one that has not (8): as the reference, on every SIMD path.
+TEST(FastPath, SmallBoxWalkerMatchesReferenceAtEveryOffsetInABlock) {
+  const int w = 157, h = 131;
+  Rng rng{77};
+  TestScene sc;
+  std::vector<float> attributes;  // one varying per vertex: its x, for the shaded draw
+  for (int oy = 0; oy < 8; ++oy)
+    for (int side_y : {1, 2, 3, 7, 8, 9, 10, 16, 17})
+      for (int ox : {0, 3, 7})
+        for (int side_x : {1, 5, 8, 9, 16, 17}) {
+          // The box's corner at (ox, oy) in a random block; a fat triangle over the box, its
+          // apex at either side, so that its top and bottom rows hold covered samples.
+          const float x = static_cast<float>(8 * (rng.next() % 18) + ox);
+          const float y = static_cast<float>(8 * (rng.next() % 15) + oy);
+          const float bw = static_cast<float>(side_x), bh = static_cast<float>(side_y);
+          const float z = static_cast<float>(rng.uniform(0.1, 0.9));
+          const bool left = (rng.next() & 1) != 0;
+          const glm::vec4 p[3] = {{left ? x + bw : x, y, z, 1},
+                                  {left ? x : x + bw, y + 0.5f * bh, z + 0.05f, 1},
+                                  {left ? x + bw : x, y + bh, z - 0.05f, 1}};
+          for (const glm::vec4& v : p) {
+            sc.positions.push_back(v);
+            sc.colors.push_back({rng.byte(), rng.byte(), rng.byte(), 255});
+            attributes.push_back(v.x / 16.0f);
+          }
+        }
+  const std::uint32_t varyings[] = {0};
+  const mosaic::Shader shader = mosaic::make_shader(
+      [](const mosaic::Fragment& f) { return glm::vec4(f.varying(0) - std::floor(f.varying(0))); },
+      1);
+  for (int samples : {1, 4, 8}) {
+    for (int mode = 0; mode < 3; ++mode) {  // per-vertex colour, one colour, shaded
+      const auto draw_with = [&](Isa isa) {
+        mosaic::RenderTarget target(w, h, samples, {true, true});
+        target.set_clear({10, 20, 30, 255}, 1.f);
+        mosaic::Draw d;
+        d.space = mosaic::Space::kScreen;
+        d.positions = sc.positions;
+        d.color_source =
+            mode == 1 ? mosaic::ColorSource::kConstant : mosaic::ColorSource::kPerVertex;
+        d.colors = sc.colors;
+        d.color = {200, 100, 50, 255};
+        if (mode == 2) {
+          d.attributes = attributes;
+          d.attribute_count = 1;
+          d.varyings = varyings;
+          d.shader = shader;
+        }
+        const mosaic::Draw draws[] = {d};
+        mosaic::Frame frame;
+        frame.draws = draws;
+        mosaic::Renderer r({.threads = 2, .isa = isa});
+        return mosaic::test::capture(r, frame, target);
+      };
+      const Result ref = draw_with(Isa::kReference);
+      for (Isa isa : simd_isas())
+        expect_same(ref, draw_with(isa),
+                    "small boxes, mode " + std::to_string(mode) + " " + std::to_string(samples) +
+                        "x " + mosaic::to_string(isa));
+    }
+    // Depth-only draws that write depth (the walker with depth planes beside the small-box one)
+    // and a colour draw over them.
+    std::vector<mosaic::DrawState> states(3);
+    states[0].color_write = false;
+    states[1].color_write = false;
+    states[2].depth_test = mosaic::DepthTest::kLessEqual;
+    const MultiResult ref =
+        render_draws(sc, w, h, samples, Isa::kReference, states, {true, true}, false);
+    for (Isa isa : simd_isas())
+      expect_same_multi(
+          ref, render_draws(sc, w, h, samples, isa, states, {true, true}, false),
+          "small boxes, depth-only, " + std::to_string(samples) + "x " + mosaic::to_string(isa));
+  }
+}

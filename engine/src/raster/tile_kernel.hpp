@@ -21,7 +21,9 @@
 // one call of the shader's batch function per batch (not per pixel), then blending per sample.
 // A triangle whose box is a few pixels of one block (setup shrinks a tiny triangle's box to its
 // covered samples) skips the walker: pixel_impl() makes the same tests, writes and counts in
-// scalar code. A depth-only draw leaves a block that one triangle covers and wins whole as that
+// scalar code. A box within 2×2 blocks takes the small-box walker (Walk), which evaluates the
+// coverage of only the block rows its box meets.
+// A depth-only draw leaves a block that one triangle covers and wins whole as that
 // triangle's depth plane (TileScratch::plane), whose samples are written when something reads
 // them: under overdraw, once instead of once per triangle.
 // The kernel a triangle gets is specialised on what its draw uses (raster/kernel_traits.hpp;
@@ -153,28 +155,38 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   };
 
   using TriangleFn = void (*)(Context&, const front::TriangleSetup&);
-  /// A draw state's kernel for any box (the block walker), and for a box of a few pixels.
+  /// A draw state's kernel for any box (the block walker), for a box of a few pixels, and for a
+  /// box within 2×2 blocks (draw_triangle() chooses).
   struct Kernel {
-    TriangleFn box = nullptr, pixel = nullptr;
+    TriangleFn box = nullptr, pixel = nullptr, small = nullptr;
+  };
+  /// The forms of the block walker: for any box; the same with depth planes (depth-only draws
+  /// that write depth); for a box within 2×2 blocks, which evaluates coverage only for the
+  /// block rows the box meets (most of a small triangle's blocks are cut by its box).
+  enum class Walk { kBlocks, kPlanes, kSmallBox };
+
+  /// The rows [r0, r1) of a block that a triangle's box meets. No sample outside the box is
+  /// covered, so the other rows' coverage is known to be empty without evaluating it.
+  struct BoxRows {
+    int r0 = 0, r1 = kBlockSize;
   };
   /// The kernels of one draw's triangles: those without colour planes, and those with.
   struct DrawKernels {
     Kernel flat, interpolated;
   };
-  /// Whether `t`'s box holds at most kPixelPathMax pixels, all in one block (tiles start on
-  /// block boundaries, so the block is in the tile the bin holds the triangle for).
-  static bool takes_pixel_path(const front::TriangleSetup& t) {
-    return (t.bx1 - t.bx0) * (t.by1 - t.by0) <= kPixelPathMax &&
-           (t.bx0 >> kBlockShift) == ((t.bx1 - 1) >> kBlockShift) &&
-           (t.by0 >> kBlockShift) == ((t.by1 - 1) >> kBlockShift);
-  }
-  /// Draws `t` with the kernel its colour and box ask for. Most triangles of a distant mesh have a
-  /// box of a pixel or a few: pixel_impl() draws them without the block walker's per-triangle
-  /// setup.
+  /// Draws `t` with the kernel its colour and box ask for, by the blocks its box spans (tiles
+  /// start on block boundaries, so a box's blocks are in the tile the bin holds it for): a box of
+  /// at most kPixelPathMax pixels in one block takes pixel_impl(), without the block walker's
+  /// per-triangle setup (most triangles of a distant mesh have a box of a pixel or a few), one
+  /// within 2×2 blocks the small-box walker, and the rest the block walker.
   static void draw_triangle(Context& cx, const DrawKernels& kernels,
                             const front::TriangleSetup& t) {
     const Kernel& k = front::is_flat(t) ? kernels.flat : kernels.interpolated;
-    (takes_pixel_path(t) ? k.pixel : k.box)(cx, t);
+    const int wide = ((t.bx1 - 1) >> kBlockShift) - (t.bx0 >> kBlockShift);
+    const int tall = ((t.by1 - 1) >> kBlockShift) - (t.by0 >> kBlockShift);
+    if ((wide | tall) == 0 && (t.bx1 - t.bx0) * (t.by1 - t.by0) <= kPixelPathMax)
+      return k.pixel(cx, t);
+    ((wide | tall) < 2 ? k.small : k.box)(cx, t);
   }
 
   // The specialisations of triangle_impl() a draw's state asks for. Called once per bin run (a
@@ -244,13 +256,16 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   }
   template <class K>
   static Kernel kernel() {
+    // The small-box walker where the traits fix a count of several samples (the 4x kernels of
+    // the default depth state): at one sample a block's coverage is a few vectors.
+    constexpr Walk kSmall = K::kSamples > 1 ? Walk::kSmallBox : Walk::kBlocks;
     // A shader draw's pixels take the block walker's batches.
     if constexpr (K::kGeneric)
-      return {&triangle_impl<K>, &triangle_impl<K>};
+      return {&triangle_impl<K>, &triangle_impl<K, kSmall>, &triangle_impl<K, kSmall>};
     else if constexpr (kUsesPlanes<K>)
-      return {&depth_only_walker<K>, &pixel_impl<K>};
+      return {&depth_only_walker<K, Walk::kBlocks>, &pixel_impl<K>, &depth_only_walker<K, kSmall>};
     else
-      return {&triangle_impl<K>, &pixel_impl<K>};
+      return {&triangle_impl<K>, &pixel_impl<K>, &triangle_impl<K, kSmall>};
   }
 
   template <DepthTest kTest>
@@ -288,15 +303,16 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   // planes. The plain walker draws the rest, so that a tile of small triangles pays nothing for
   // planes. (Each walker is a function of its own: the choice inside the plain one cost it
   // registers.)
-  template <class K>
+  template <class K, Walk kPlain>
   static void depth_only_walker(Context& cx, const front::TriangleSetup& t) {
-    if (cx.planes || may_cover_a_block(t)) return triangle_impl<K, true>(cx, t);
-    triangle_impl<K, false>(cx, t);
+    if (cx.planes || may_cover_a_block(t)) return triangle_impl<K, Walk::kPlanes>(cx, t);
+    triangle_impl<K, kPlain>(cx, t);
   }
 
-  // The block walker.
-  template <class K, bool kPlanes = false>
+  // The block walker, in one of its forms (Walk).
+  template <class K, Walk kWalk = Walk::kBlocks>
   [[gnu::noinline]] static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
+    constexpr bool kPlanes = kWalk == Walk::kPlanes, kSmallBox = kWalk == Walk::kSmallBox;
     constexpr DepthTest kTest = K::kTest;
     constexpr bool kWrite = K::kWrite, kS1 = K::kOneSample;
     constexpr bool kColor = K::kColor != ColorMode::kNone;
@@ -329,7 +345,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     // its blocks instead of computing one range per block: exact output either way, the ranges
     // only decide which work is skipped.
     float rlo = t.z_min, rhi = t.z_max;
-    const bool small_box = bxe - bxb <= 2 && bye - byb <= 2;
+    const bool small_box = kSmallBox || (bxe - bxb <= 2 && bye - byb <= 2);
     if constexpr (kTest != DepthTest::kAlways) {
       // A small box the tile does not cut: its plane range, clamped to the vertices' depths, is
       // at most [z_min, z_max] and rarely narrower, so the double evaluation is skipped.
@@ -422,6 +438,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         }
       }
       const F fy_row = F(static_cast<float>(py0));
+      // The block rows the box meets (the small-box walker evaluates coverage for those only).
+      const BoxRows rows = kSmallBox
+                               ? BoxRows{std::max(y_lo - py0, 0), std::min(y_hi - py0, kBlockSize)}
+                               : BoxRows{};
 
       // Edge functions at the corner of block row_b, stepped by one block along the row.
       std::int64_t erow[3];
@@ -509,9 +529,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                                 I(static_cast<std::int32_t>(c2 + centre[2])), eoff, rows_down);
           } else if (fits32) {
             if constexpr (!kS1)
-              coverage32_rows<K::kSamples>(static_cast<std::int32_t>(c0),
-                                           static_cast<std::int32_t>(c1),
-                                           static_cast<std::int32_t>(c2), roff, row_down, S, cov);
+              coverage32_rows<K::kSamples>(
+                  static_cast<std::int32_t>(c0), static_cast<std::int32_t>(c1),
+                  static_cast<std::int32_t>(c2), roff, row_down, S, rows, cov);
           } else {
             if (!doff_built) {
               build_doff(a, b, cx, S, doff);
@@ -629,7 +649,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
   }
 
-  // triangle_impl() for a triangle whose box is a few pixels of one block (takes_pixel_path()): the
+  // triangle_impl() for a triangle whose box is a few pixels of one block (draw_triangle()): the
   // tile's hierarchical z, then few_pixels().
   template <class K>
   static void pixel_impl(Context& cx, const front::TriangleSetup& t) {
@@ -863,16 +883,17 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   // (little-endian, end to end) set where lane g's sample is inside, as coverage32() does it. A
   // block row is 8 * S lanes in 8 * S / L vectors (roff: their lanes' offsets
   // from the row's corner); the values step down a row at a time (down).
-  // A kernel whose traits fix the sample count has the rows inline; the others call one copy
-  // per instruction set that picks the count, not one copy of every count per kernel.
+  // A kernel whose traits fix the sample count has the rows inline, and evaluates only the rows
+  // of `rows` (the others come out 0); the others call one copy per instruction set that picks
+  // the count, not one copy of every count per kernel, and evaluate every row.
   template <int kFixed>
   [[gnu::always_inline]] static void coverage32_rows(std::int32_t c0, std::int32_t c1,
                                                      std::int32_t c2,
                                                      const I (&roff)[3][kRowVectors],
-                                                     const I (&down)[3], int S,
+                                                     const I (&down)[3], int S, BoxRows rows,
                                                      std::uint64_t* cov) {
     if constexpr (kFixed > 1)
-      coverage32_rows_of<kFixed>(I(c0), I(c1), I(c2), roff, down, cov);
+      coverage32_rows_of<kFixed>(I(c0), I(c1), I(c2), roff, down, rows, cov);
     else
       coverage32_rows_any(c0, c1, c2, roff, down, S, cov);
   }
@@ -882,26 +903,27 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                                                     const I (&down)[3], int S, std::uint64_t* cov) {
     switch (S) {
       case 2:
-        return coverage32_rows_of<2>(I(c0), I(c1), I(c2), roff, down, cov);
+        return coverage32_rows_of<2>(I(c0), I(c1), I(c2), roff, down, {}, cov);
       case 4:
-        return coverage32_rows_of<4>(I(c0), I(c1), I(c2), roff, down, cov);
+        return coverage32_rows_of<4>(I(c0), I(c1), I(c2), roff, down, {}, cov);
       case 8:
-        return coverage32_rows_of<8>(I(c0), I(c1), I(c2), roff, down, cov);
+        return coverage32_rows_of<8>(I(c0), I(c1), I(c2), roff, down, {}, cov);
       default:
-        return coverage32_rows_of<16>(I(c0), I(c1), I(c2), roff, down, cov);
+        return coverage32_rows_of<16>(I(c0), I(c1), I(c2), roff, down, {}, cov);
     }
   }
-  // The same for a fixed count, so that a row's vectors unroll.
+  // The same for a fixed count: every row of a block unrolls; the rows of a part of one loop.
   template <int S>
   [[gnu::always_inline]] static void coverage32_rows_of(I c0, I c1, I c2,
                                                         const I (&roff)[3][kRowVectors],
-                                                        const I (&down)[3], std::uint64_t* cov) {
+                                                        const I (&down)[3], BoxRows rows,
+                                                        std::uint64_t* cov) {
     constexpr int kRowBits = kBlockSize * S;  // a row is S bytes
     const auto outside = [&](int j) {
       return std::uint64_t{M::signs((c0 + roff[0][j]) | (c1 + roff[1][j]) | (c2 + roff[2][j]))};
     };
-    if constexpr (kRowBits < 64 && S != 4) std::fill_n(cov, S, std::uint64_t{0});
-    for (int r = 0; r < kBlockSize; ++r) {
+    // Row r's bits, then the values stepped to the next row.
+    const auto row = [&](int r) {
       if constexpr (kRowBits >= 64) {  // 8 and 16 samples: a row is whole words
         for (int w = 0; w < kRowBits / 64; ++w) {
           std::uint64_t out = 0;
@@ -922,7 +944,18 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       c0 += down[0];
       c1 += down[1];
       c2 += down[2];
+    };
+    if (rows.r0 == 0 && rows.r1 == kBlockSize) {  // a fixed trip count
+      if constexpr (kRowBits < 64 && S != 4) std::fill_n(cov, S, std::uint64_t{0});
+      for (int r = 0; r < kBlockSize; ++r) row(r);
+      return;
     }
+    std::fill_n(cov, S, std::uint64_t{0});
+    const I r0(rows.r0);
+    c0 += down[0] * r0;
+    c1 += down[1] * r0;
+    c2 += down[2] * r0;
+    for (int r = rows.r0; r < rows.r1; ++r) row(r);
   }
 
   // Coverage of a block whose edge values could leave int32 (edges longer than about 2048 px), in
