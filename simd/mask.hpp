@@ -116,6 +116,16 @@ struct Mask<xsimd::avx512bw> {
     return _mm_test_epi16_mask(_mm_cvtsi64_si128(static_cast<long long>(m)),
                                _mm_cvtsi64_si128(static_cast<long long>(m)));
   }
+  /// Bit p set where nibble p of words[0 .. 4) (laid end to end, little-endian) is not zero: at
+  /// 4x, the pixels of a block with a sample set (raster/tile.hpp).
+  static std::uint64_t nonzero_nibbles(const std::uint64_t* words) {
+    // Byte b to word b, its low nibble to the word's low byte and its high nibble to the high.
+    const __m512i w =
+        _mm512_cvtepu8_epi16(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(words)));
+    const __m512i nibbles =
+        _mm512_and_si512(_mm512_or_si512(w, _mm512_slli_epi16(w, 4)), _mm512_set1_epi16(0x0f0f));
+    return _mm512_test_epi8_mask(nibbles, nibbles);
+  }
   static xsimd::batch_bool<std::int32_t, A> ints(std::uint32_t b) {
     return xsimd::batch_bool<std::int32_t, A>(static_cast<__mmask16>(b));
   }
@@ -190,6 +200,23 @@ struct Mask<xsimd::avx2> {
         static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(bytes, _mm_setzero_si128())));
     return ~zero & 0xffu;
   }
+  /// Bit p set where nibble p of words[0 .. 4) (laid end to end, little-endian) is not zero: at
+  /// 4x, the pixels of a block with a sample set (raster/tile.hpp).
+  static std::uint64_t nonzero_nibbles(const std::uint64_t* words) {
+    const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(words));
+    const __m256i low = _mm256_set1_epi8(0x0f), zero = _mm256_setzero_si256();
+    const __m256i lo = _mm256_and_si256(x, low),
+                  hi = _mm256_and_si256(_mm256_srli_epi16(x, 4), low);
+    // A byte per nibble, in order within each 128-bit half: nibbles 0-15 and 32-47 in `a`,
+    // 16-31 and 48-63 in `b`.
+    const auto a = static_cast<std::uint32_t>(
+        _mm256_movemask_epi8(_mm256_cmpeq_epi8(_mm256_unpacklo_epi8(lo, hi), zero)));
+    const auto b = static_cast<std::uint32_t>(
+        _mm256_movemask_epi8(_mm256_cmpeq_epi8(_mm256_unpackhi_epi8(lo, hi), zero)));
+    const std::uint64_t empty = (a & 0xffffu) | std::uint64_t{b & 0xffffu} << 16 |
+                                std::uint64_t{a >> 16} << 32 | std::uint64_t{b >> 16} << 48;
+    return ~empty;
+  }
   static __m256i expand(std::uint32_t b) {
     const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(b)), lane_bit),
@@ -259,6 +286,22 @@ struct Mask<xsimd::sse4_1> {
     std::uint32_t g = 0;
     for (int j = 0; j < 16; ++j) g |= std::uint32_t{((m >> (4 * j)) & 0xfu) != 0} << j;
     return g;
+  }
+  /// Bit p set where nibble p of words[0 .. 4) (laid end to end, little-endian) is not zero: at
+  /// 4x, the pixels of a block with a sample set (raster/tile.hpp).
+  static std::uint64_t nonzero_nibbles(const std::uint64_t* words) {
+    const __m128i low = _mm_set1_epi8(0x0f), zero = _mm_setzero_si128();
+    std::uint64_t empty = 0;
+    for (int h = 0; h < 2; ++h) {  // 16 bytes: nibbles 32 h .. 32 h + 31, a byte each
+      const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(words + 2 * h));
+      const __m128i lo = _mm_and_si128(x, low), hi = _mm_and_si128(_mm_srli_epi16(x, 4), low);
+      const auto a = static_cast<std::uint32_t>(
+          _mm_movemask_epi8(_mm_cmpeq_epi8(_mm_unpacklo_epi8(lo, hi), zero)));
+      const auto b = static_cast<std::uint32_t>(
+          _mm_movemask_epi8(_mm_cmpeq_epi8(_mm_unpackhi_epi8(lo, hi), zero)));
+      empty |= (a | std::uint64_t{b} << 16) << (32 * h);
+    }
+    return ~empty;
   }
   static __m128i expand(std::uint32_t b) {
     const __m128i lane_bit = _mm_setr_epi32(1, 2, 4, 8);

@@ -7,6 +7,7 @@
 // compiled per set by tests/isa/mask_probe.cpp.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -25,6 +26,7 @@
   int probe_lanes();                                                                       \
   int probe_double_lanes();                                                                \
   std::uint32_t probe_nonzero_groups(std::uint64_t m);                                     \
+  std::uint64_t probe_nonzero_nibbles(const std::uint64_t* words);                         \
   std::uint32_t probe_signs_int(const std::int32_t* v);                                    \
   std::uint32_t probe_signs_double(const double* v);                                       \
   std::uint32_t probe_int_mask(std::uint32_t b);                                           \
@@ -63,6 +65,7 @@ struct Probe {
   int (*lanes)();
   int (*double_lanes)();
   std::uint32_t (*nonzero_groups)(std::uint64_t);
+  std::uint64_t (*nonzero_nibbles)(const std::uint64_t*);
   std::uint32_t (*signs_int)(const std::int32_t*);
   std::uint32_t (*signs_double)(const double*);
   std::uint32_t (*int_mask)(std::uint32_t);
@@ -80,17 +83,17 @@ struct Probe {
                const std::uint64_t (*)[16], void*);
 };
 
-#define MOSAIC_PROBE(ns, isa)                                                        \
-  Probe {                                                                            \
-    isa, &mosaic::simd::ns::probe_lanes, &mosaic::simd::ns::probe_double_lanes,      \
-        &mosaic::simd::ns::probe_nonzero_groups, &mosaic::simd::ns::probe_signs_int, \
-        &mosaic::simd::ns::probe_signs_double, &mosaic::simd::ns::probe_int_mask,    \
-        &mosaic::simd::ns::probe_float_mask, &mosaic::simd::ns::probe_double_less,   \
-        &mosaic::simd::ns::probe_to_float, &mosaic::simd::ns::probe_compress_int,    \
-        &mosaic::simd::ns::probe_compress_float, &mosaic::simd::ns::probe_means,     \
-        &mosaic::simd::ns::probe_permute, &mosaic::simd::ns::probe_scatter,          \
-        &mosaic::simd::ns::probe_columns, &mosaic::simd::ns::probe_heads,            \
-        &mosaic::simd::ns::probe_rows                                                \
+#define MOSAIC_PROBE(ns, isa)                                                              \
+  Probe {                                                                                  \
+    isa, &mosaic::simd::ns::probe_lanes, &mosaic::simd::ns::probe_double_lanes,            \
+        &mosaic::simd::ns::probe_nonzero_groups, &mosaic::simd::ns::probe_nonzero_nibbles, \
+        &mosaic::simd::ns::probe_signs_int, &mosaic::simd::ns::probe_signs_double,         \
+        &mosaic::simd::ns::probe_int_mask, &mosaic::simd::ns::probe_float_mask,            \
+        &mosaic::simd::ns::probe_double_less, &mosaic::simd::ns::probe_to_float,           \
+        &mosaic::simd::ns::probe_compress_int, &mosaic::simd::ns::probe_compress_float,    \
+        &mosaic::simd::ns::probe_means, &mosaic::simd::ns::probe_permute,                  \
+        &mosaic::simd::ns::probe_scatter, &mosaic::simd::ns::probe_columns,                \
+        &mosaic::simd::ns::probe_heads, &mosaic::simd::ns::probe_rows                      \
   }
 
 // The probes of every set this build compiles and this CPU runs.
@@ -155,6 +158,39 @@ TEST_F(SimdMask, NonzeroGroupsMarksEachGroupHoldingABit) {
     for (const std::uint64_t m : words)
       ASSERT_EQ(p.nonzero_groups(m), model(m)) << mosaic::to_string(p.isa) << " m=" << m;
   }
+}
+
+// Bit p where nibble p of four words laid end to end (a 4x block's samples, pixel-major) holds a
+// set bit: every single bit, every nibble alone full, and random words, sparse and dense.
+TEST_F(SimdMask, NonzeroNibblesMarksEachPixelHoldingASample) {
+  const auto model = [](const std::uint64_t* w) {
+    std::uint64_t pixels = 0;
+    for (int p = 0; p < 64; ++p)
+      pixels |= std::uint64_t{((w[p / 16] >> (4 * (p % 16))) & 0xfu) != 0} << p;
+    return pixels;
+  };
+  std::vector<std::array<std::uint64_t, 4>> cases{{0, 0, 0, 0}, {~0ull, ~0ull, ~0ull, ~0ull}};
+  for (int b = 0; b < 256; ++b) {
+    std::array<std::uint64_t, 4> one{};
+    one[b / 64] = 1ull << (b % 64);
+    cases.push_back(one);
+  }
+  for (int p = 0; p < 64; ++p) {
+    std::array<std::uint64_t, 4> full{};
+    full[p / 16] = 0xfull << (4 * (p % 16));
+    cases.push_back(full);
+  }
+  for (int k = 0; k < 2000; ++k) {
+    cases.push_back({rng_(), rng_(), rng_(), rng_()});
+    std::array<std::uint64_t, 4> sparse{};
+    for (std::uint64_t& w : sparse) w = rng_() & rng_() & rng_() & rng_();
+    cases.push_back(sparse);
+  }
+  for (const Probe& p : probes_)
+    for (const auto& w : cases)
+      ASSERT_EQ(p.nonzero_nibbles(w.data()), model(w.data()))
+          << mosaic::to_string(p.isa) << " words " << w[0] << " " << w[1] << " " << w[2] << " "
+          << w[3];
 }
 
 TEST_F(SimdMask, SignsAreTheLanesSignBits) {

@@ -34,6 +34,10 @@ int probe_double_lanes() { return T::kDLanes; }
 
 std::uint32_t probe_nonzero_groups(std::uint64_t m) { return T::M::nonzero_groups(m); }
 
+std::uint64_t probe_nonzero_nibbles(const std::uint64_t* words) {
+  return T::M::nonzero_nibbles(words);
+}
+
 std::uint32_t probe_signs_int(const std::int32_t* v) {
   return T::M::signs(T::I::load_unaligned(v));
 }

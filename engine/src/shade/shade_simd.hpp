@@ -547,7 +547,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     // A queued shader under SSAA queues every passed sample of the block.
     if (queued && ssaa) return enqueue_lanes(q, ln, t, S, passed, first, fx_blk, fy_blk);
     // Pixels with a passed sample, once for the block: only their batches are visited.
-    std::uint64_t any_pixel = raster::pixels_of(passed, S);
+    std::uint64_t any_pixel = S == 4 ? M::nonzero_nibbles(passed) : raster::pixels_of(passed, S);
     // A queued shader (MSAA) shades the batches it covers whole at once, and queues the pixels
     // of the others: found without a branch, since most blocks of a small triangle have none.
     std::uint64_t partial = 0;
