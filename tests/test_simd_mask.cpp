@@ -337,9 +337,10 @@ TEST_F(SimdMask, MeansAverageEachPixelsSamplesPerByte) {
         std::vector<std::int32_t> in(static_cast<std::size_t>(S * L));
         std::int32_t out[kMaxLanes];
         for (int i = 0; i < S * L; ++i)
-          in[i] = round == 0   ? static_cast<std::int32_t>(0xffffffffu)
-                  : round == 1 ? i * 0x01020304
-                               : static_cast<std::int32_t>(rng_());
+          in[i] = round == 0 ? static_cast<std::int32_t>(0xffffffffu)
+                  : round == 1
+                      ? static_cast<std::int32_t>(static_cast<std::uint32_t>(i) * 0x01020304u)
+                      : static_cast<std::int32_t>(rng_());
         p.means(S, in.data(), out);
         for (int l = 0; l < L; ++l) {
           std::uint32_t want = 0;
