@@ -4,8 +4,8 @@
 // instructions are named: movmskps on SSE and AVX2, k-registers on AVX-512. Lane i is bit i.
 // Also here, for the same reason: rounding double lanes to float precision (to_float()), and
 // packing the lanes a mask selects into the low lanes, in order (compress()), the box mean of
-// each pixel's RGBA8 samples (means(): the resolve), and, where the set has
-// it, storing lanes to computed addresses (scatter()).
+// each pixel's RGBA8 samples (means(): the resolve), and a pixel's four samples stored under a
+// mask (store_samples4()).
 #pragma once
 
 #include <array>
@@ -39,6 +39,13 @@ inline constexpr std::array<std::array<std::uint8_t, 16>, 16> kCompress4 = [] {
     for (; k < 4; ++k)
       for (unsigned b = 0; b < 4; ++b) t[m][4 * k + b] = static_cast<std::uint8_t>(b);
   }
+  return t;
+}();
+// For each 4-bit mask, the 32-bit lanes it selects (all ones) for a 128-bit blend.
+inline constexpr std::array<std::array<std::int32_t, 4>, 16> kLanes4 = [] {
+  std::array<std::array<std::int32_t, 4>, 16> t{};
+  for (unsigned m = 0; m < 16; ++m)
+    for (unsigned l = 0; l < 4; ++l) t[m][l] = (m >> l & 1u) ? -1 : 0;
   return t;
 }();
 #if XSIMD_WITH_AVX2
@@ -80,6 +87,19 @@ inline __m256i means256(const __m256i* v) {
 }
 #endif
 }  // namespace detail
+
+#if XSIMD_WITH_SSE4_1
+/// `value` into words[k] for each bit k of bits (0..15) and the other three words left as they
+/// are: one 128-bit load, blend and store (every instruction set mosaic compiles has SSE4.1).
+[[gnu::always_inline]] inline void store_samples4(std::uint32_t* words, std::uint32_t value,
+                                                  std::uint32_t bits) {
+  auto* at = reinterpret_cast<__m128i*>(words);
+  const __m128i lanes =
+      _mm_loadu_si128(reinterpret_cast<const __m128i*>(detail::kLanes4[bits & 0xfu].data()));
+  _mm_storeu_si128(
+      at, _mm_blendv_epi8(_mm_loadu_si128(at), _mm_set1_epi32(static_cast<int>(value)), lanes));
+}
+#endif
 
 template <class A>
 struct Mask;
@@ -144,13 +164,6 @@ struct Mask<xsimd::avx512bw> {
   static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
                                                 std::uint32_t b) {
     return _mm512_maskz_compress_epi32(static_cast<__mmask16>(b), v);
-  }
-  /// Whether scatter() exists: base[index[l]] = v[l] for the lanes set in `b`, in lane order
-  /// (where two lanes' indices are equal, the higher lane's value stays).
-  static constexpr bool kScatter = true;
-  static void scatter(std::int32_t* base, const xsimd::batch<std::int32_t, A>& index,
-                      const xsimd::batch<std::int32_t, A>& v, std::uint32_t b) {
-    _mm512_mask_i32scatter_epi32(base, static_cast<__mmask16>(b), index, v, 4);
   }
   /// Lane i: the box mean of pixel i's S RGBA8 samples (S = 4, 8, 16), v[0 .. S) holding the L
   /// pixels' samples pixel-major: per byte (sum + S / 2) / S, as resolve::box_mean().
@@ -245,7 +258,6 @@ struct Mask<xsimd::avx2> {
                                                 std::uint32_t b) {
     return _mm256_permutevar8x32_epi32(v, compress_index(b));
   }
-  static constexpr bool kScatter = false;  ///< AVX2 has gathers only
   /// Lane i: the box mean of pixel i's S RGBA8 samples (S = 4, 8, 16), v[0 .. S) holding the L
   /// pixels' samples pixel-major: per byte (sum + S / 2) / S, as resolve::box_mean().
   template <int S>
@@ -327,7 +339,6 @@ struct Mask<xsimd::sse4_1> {
   static xsimd::batch<float, A> compress(const xsimd::batch<float, A>& v, std::uint32_t b) {
     return _mm_castsi128_ps(compress(xsimd::batch<std::int32_t, A>(_mm_castps_si128(v)), b));
   }
-  static constexpr bool kScatter = false;
   /// Lane i: the box mean of pixel i's S RGBA8 samples (S = 4, 8, 16), v[0 .. S) holding the L
   /// pixels' samples pixel-major: per byte (sum + S / 2) / S, as resolve::box_mean().
   template <int S>

@@ -1,10 +1,10 @@
 // simd/mask.hpp and simd/records.hpp, the vocabulary every SIMD stage is written in, on each
 // instruction set this build compiles and this CPU runs, against scalar models: lane groups
 // holding a bit, sign bits, masks to and from lanes, rounding to float, compress, a pixel's bits
-// of four masks, scatter, and records (whole, or their first 16 bytes) transposed into lanes.
-// The stages use these at every block and batch, so an error here would show only as a wrong
-// image somewhere; here it shows as the helper and the input that broke. The helpers are
-// compiled per set by tests/isa/mask_probe.cpp.
+// of four masks, four samples stored under a mask, and records (whole, or their first 16
+// bytes) transposed into lanes. The stages use these at every block and batch, so an error here
+// would show only as a wrong image somewhere; here it shows as the helper and the input that broke.
+// The helpers are compiled per set by tests/isa/mask_probe.cpp.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -21,29 +21,28 @@
 
 #include "mosaic/mosaic.hpp"
 
-#define MOSAIC_DECLARE_PROBES(ns)                                                          \
-  namespace mosaic::simd::ns {                                                             \
-  int probe_lanes();                                                                       \
-  int probe_double_lanes();                                                                \
-  std::uint32_t probe_nonzero_groups(std::uint64_t m);                                     \
-  std::uint64_t probe_nonzero_nibbles(const std::uint64_t* words);                         \
-  std::uint32_t probe_signs_int(const std::int32_t* v);                                    \
-  std::uint32_t probe_signs_double(const double* v);                                       \
-  std::uint32_t probe_int_mask(std::uint32_t b);                                           \
-  std::uint32_t probe_float_mask(std::uint32_t b);                                         \
-  std::uint32_t probe_double_less(const double* a, const double* b);                       \
-  void probe_to_float(const double* in, double* out);                                      \
-  void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out);     \
-  void probe_compress_float(const float* in, std::uint32_t b, float* out);                 \
-  void probe_means(int S, const std::int32_t* in, std::int32_t* out);                      \
-  void probe_permute(const std::int32_t* in, const std::int32_t* idx, std::int32_t* out);  \
-  bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v, \
-                     std::uint32_t b);                                                     \
-  void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,     \
-                     double* high);                                                        \
-  void probe_heads(const void* const* rows, std::uint32_t (*words)[16]);                   \
-  void probe_rows(const double* ints, const double* a, const double* b, const double* c,   \
-                  const double* d, const std::uint64_t (*more)[16], void* out);            \
+#define MOSAIC_DECLARE_PROBES(ns)                                                           \
+  namespace mosaic::simd::ns {                                                              \
+  int probe_lanes();                                                                        \
+  int probe_double_lanes();                                                                 \
+  std::uint32_t probe_nonzero_groups(std::uint64_t m);                                      \
+  std::uint64_t probe_nonzero_nibbles(const std::uint64_t* words);                          \
+  std::uint32_t probe_signs_int(const std::int32_t* v);                                     \
+  std::uint32_t probe_signs_double(const double* v);                                        \
+  std::uint32_t probe_int_mask(std::uint32_t b);                                            \
+  std::uint32_t probe_float_mask(std::uint32_t b);                                          \
+  std::uint32_t probe_double_less(const double* a, const double* b);                        \
+  void probe_to_float(const double* in, double* out);                                       \
+  void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out);      \
+  void probe_compress_float(const float* in, std::uint32_t b, float* out);                  \
+  void probe_means(int S, const std::int32_t* in, std::int32_t* out);                       \
+  void probe_permute(const std::int32_t* in, const std::int32_t* idx, std::int32_t* out);   \
+  void probe_store_samples4(std::uint32_t* words, std::uint32_t value, std::uint32_t bits); \
+  void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,      \
+                     double* high);                                                         \
+  void probe_heads(const void* const* rows, std::uint32_t (*words)[16]);                    \
+  void probe_rows(const double* ints, const double* a, const double* b, const double* c,    \
+                  const double* d, const std::uint64_t (*more)[16], void* out);             \
   }
 
 #if MOSAIC_PROBE_SSE41
@@ -76,7 +75,7 @@ struct Probe {
   void (*compress_float)(const float*, std::uint32_t, float*);
   void (*means)(int, const std::int32_t*, std::int32_t*);
   void (*permute)(const std::int32_t*, const std::int32_t*, std::int32_t*);
-  bool (*scatter)(std::int32_t*, const std::int32_t*, const std::int32_t*, std::uint32_t);
+  void (*store_samples4)(std::uint32_t*, std::uint32_t, std::uint32_t);
   void (*columns)(const void* const*, std::uint64_t (*)[16], double*, double*);
   void (*heads)(const void* const*, std::uint32_t (*)[16]);
   void (*rows)(const double*, const double*, const double*, const double*, const double*,
@@ -92,7 +91,7 @@ struct Probe {
         &mosaic::simd::ns::probe_double_less, &mosaic::simd::ns::probe_to_float,           \
         &mosaic::simd::ns::probe_compress_int, &mosaic::simd::ns::probe_compress_float,    \
         &mosaic::simd::ns::probe_means, &mosaic::simd::ns::probe_permute,                  \
-        &mosaic::simd::ns::probe_scatter, &mosaic::simd::ns::probe_columns,                \
+        &mosaic::simd::ns::probe_store_samples4, &mosaic::simd::ns::probe_columns,         \
         &mosaic::simd::ns::probe_heads, &mosaic::simd::ns::probe_rows                      \
   }
 
@@ -162,6 +161,23 @@ TEST_F(SimdMask, NonzeroGroupsMarksEachGroupHoldingABit) {
 
 // Bit p where nibble p of four words laid end to end (a 4x block's samples, pixel-major) holds a
 // set bit: every single bit, every nibble alone full, and random words, sparse and dense.
+// A shaded pixel's colour into the samples that passed (a 4-bit mask; higher bits ignored),
+// the other words of the four and their neighbours left alone, at every alignment of a word.
+TEST_F(SimdMask, StoreSamples4WritesExactlyTheSamplesThatPassed) {
+  for (const Probe& p : probes_)
+    for (std::uint32_t bits = 0; bits < 64; ++bits)
+      for (int at = 1; at <= 4; ++at) {
+        std::array<std::uint32_t, 9> words{}, model{};
+        for (std::size_t i = 0; i < words.size(); ++i)
+          words[i] = model[i] = 0x01010101u * static_cast<std::uint32_t>(i + 1);
+        const std::uint32_t value = 0xa5c30000u | bits;
+        for (int k = 0; k < 4; ++k)
+          if (bits >> k & 1u) model[static_cast<std::size_t>(at + k)] = value;
+        p.store_samples4(words.data() + at, value, bits);
+        ASSERT_EQ(words, model) << mosaic::to_string(p.isa) << " bits " << bits << " at " << at;
+      }
+}
+
 TEST_F(SimdMask, NonzeroNibblesMarksEachPixelHoldingASample) {
   const auto model = [](const std::uint64_t* w) {
     std::uint64_t pixels = 0;
@@ -372,30 +388,6 @@ TEST_F(SimdMask, PermutePicksTheIndexedLane) {
       for (int l = 0; l < L; ++l)
         ASSERT_EQ(out[l], in[idx[l]])
             << mosaic::to_string(p.isa) << " round " << round << " lane " << l;
-    }
-  }
-}
-
-// base[index[l]] = v[l] for the lanes of b, in lane order: where indices repeat, the highest
-// such lane's value stays. (Sets without a scatter say so.)
-TEST_F(SimdMask, ScatterWritesTheMaskedLanesInLaneOrder) {
-  for (const Probe& p : probes_) {
-    const int L = p.lanes();
-    for (int k = 0; k < 2000; ++k) {
-      std::int32_t index[kMaxLanes], v[kMaxLanes];
-      for (int l = 0; l < L; ++l) {
-        index[l] = static_cast<std::int32_t>(rng_() % 12);  // repeats are common
-        v[l] = 100 * k + l;
-      }
-      const auto b = static_cast<std::uint32_t>(rng_() & ((1u << L) - 1));
-      std::int32_t got[12] = {}, want[12] = {};
-      const bool has = p.scatter(got, index, v, b);
-      EXPECT_EQ(has, p.isa == Isa::kAvx512) << mosaic::to_string(p.isa);
-      if (!has) break;
-      for (int l = 0; l < L; ++l)
-        if (b >> l & 1u) want[index[l]] = v[l];
-      for (int i = 0; i < 12; ++i)
-        ASSERT_EQ(got[i], want[i]) << mosaic::to_string(p.isa) << " slot " << i;
     }
   }
 }

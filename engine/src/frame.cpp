@@ -400,8 +400,7 @@ Renderer::Renderer(RendererOptions options) : impl_(std::make_unique<Impl>()) {
     impl_->workers.resize(static_cast<std::size_t>(impl_->threads));
     for (std::unique_ptr<Impl::Worker>& w : impl_->workers) {
       w = std::make_unique<Impl::Worker>();
-      std::memset(w->scratch.color.get(), 0,
-                  raster::TileScratch::kColorValues * sizeof(std::uint32_t));
+      std::memset(w->scratch.color.get(), 0, raster::TileScratch::kValues * sizeof(std::uint32_t));
       std::memset(w->scratch.depth.get(), 0, raster::TileScratch::kValues * sizeof(float));
     }
   }

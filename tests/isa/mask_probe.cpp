@@ -14,18 +14,6 @@ inline constexpr int kMaxProbeLanes = 16;
 
 namespace {
 using T = LaneTypes<Arch>;
-
-// A template, so that a set without scatter() never names it.
-template <class Mk>
-bool scatter_if_any(std::int32_t* base, const std::int32_t* index, const std::int32_t* v,
-                    std::uint32_t b) {
-  if constexpr (Mk::kScatter) {
-    Mk::scatter(base, T::I::load_unaligned(index), T::I::load_unaligned(v), b);
-    return true;
-  } else {
-    return false;
-  }
-}
 }  // namespace
 
 int probe_lanes() { return T::L; }
@@ -76,10 +64,9 @@ void probe_permute(const std::int32_t* in, const std::int32_t* idx, std::int32_t
   T::M::permute(T::I::load_unaligned(in), T::I::load_unaligned(idx)).store_unaligned(out);
 }
 
-// base[index[l]] = v[l] for the lanes in b; false where the set has no scatter.
-bool probe_scatter(std::int32_t* base, const std::int32_t* index, const std::int32_t* v,
-                   std::uint32_t b) {
-  return scatter_if_any<T::M>(base, index, v, b);
+// store_samples4(), compiled with this set's flags.
+void probe_store_samples4(std::uint32_t* words, std::uint32_t value, std::uint32_t bits) {
+  store_samples4(words, value, bits);
 }
 
 // Records<>::columns() of the 32-byte records at rows[0 .. double lanes): words[j][l] is word j of

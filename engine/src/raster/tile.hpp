@@ -237,20 +237,15 @@ struct TileStats {
 };
 
 /// A worker's tile memory, 64-byte aligned for any SIMD width. Layout of colour and depth:
-/// [block][sample][pixel of block], so one sample of one block is 64 contiguous values.
+/// [block][pixel of block][sample] (pixel-major, above), so a block's samples are contiguous.
 struct TileScratch {
   struct Free {
     void operator()(void* p) const { std::free(p); }
   };
   static constexpr std::size_t kValues =
       std::size_t{kMaxBlocksPerTile} * kMaxSamples * kBlockPixels;
-  /// color[kSpareColor], past the samples, takes the stores of a branch-free masked write that
-  /// must leave its sample as it is (the SIMD shading's write_masked()); nothing reads it.
-  static constexpr std::size_t kSpareColor = kValues;
-  /// The colour array's length: the samples, then a line that holds the spare word.
-  static constexpr std::size_t kColorValues = kValues + 64 / sizeof(std::uint32_t);
   std::unique_ptr<std::uint32_t[], Free> color{
-      static_cast<std::uint32_t*>(std::aligned_alloc(64, kColorValues * sizeof(std::uint32_t)))};
+      static_cast<std::uint32_t*>(std::aligned_alloc(64, kValues * sizeof(std::uint32_t)))};
   std::unique_ptr<float[], Free> depth{
       static_cast<float*>(std::aligned_alloc(64, kValues * sizeof(float)))};
   alignas(64) float zmin[kMaxBlocksPerTile];  ///< hierarchical z: nearest depth in the block

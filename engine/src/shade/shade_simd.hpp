@@ -270,13 +270,10 @@ struct ShadeSimd : simd::LaneTypes<A> {
     sh.function(sh.state, in, res);
     I packed[kBatchVectors];
     pack_output(res, packed);
-    if (q.blend) {
+    if (q.blend)
       write_blended(q, n, packed);
-    } else if constexpr (M::kScatter) {
-      write_scattered(q, n, packed);
-    } else {
+    else
       write_masked(q, n, packed);
-    }
     // The overflow of the last append (fewer than kShaderBatch entries) to the front.
     const int rest = q.n - n;
     q.n = rest;
@@ -314,59 +311,28 @@ struct ShadeSimd : simd::LaneTypes<A> {
       }
     }
   }
-  // The same without blending: each entry's colour is stored to each sample it passed, and to
-  // the tile's spare word for each it did not, so that no store waits on a load or a branch.
-  // The stores keep queue order, so a later entry wins a sample two entries write.
+  // The same without blending: each entry's colour is stored to each sample it passed, four
+  // adjacent samples (a pixel's at 4x) by one masked 128-bit store, without a branch on which
+  // passed. The stores keep queue order, so a later entry wins a sample two entries write.
   static void write_masked(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
     alignas(64) std::int32_t c[kShaderBatch];
-    alignas(64) std::int32_t at[raster::kMaxSamples][kShaderBatch];  // sample k's word, or spare
     for (int j = 0; j < kBatchVectors; ++j) packed[j].store_aligned(c + j * L);
-    const auto words = [&](int span) {
-      const I spare(static_cast<std::int32_t>(raster::TileScratch::kSpareColor));
-      for (int j = 0; j < kBatchVectors; ++j) {
-        const I first = I::load_aligned(q.color + j * L);
-        const I bits = I::load_aligned(q.samples + j * L);
-        for (int k = 0; k < span; ++k) {
-          const auto passed = (bits & I(1 << k)) != I(0);
-          xsimd::select(passed, first + I(k), spare).store_aligned(at[k] + j * L);
-        }
-      }
-    };
     std::uint32_t* base = q.color_base;
     if (q.span == 1) {  // one sample: an entry is queued because its sample passed
       for (int l = 0; l < n; ++l) base[q.color[l]] = static_cast<std::uint32_t>(c[l]);
       return;
     }
     if (q.span == 4) {  // the common count, unrolled
-      words(4);
-      for (int l = 0; l < n; ++l) {
-        const auto src = static_cast<std::uint32_t>(c[l]);
-        base[at[0][l]] = src;
-        base[at[1][l]] = src;
-        base[at[2][l]] = src;
-        base[at[3][l]] = src;
-      }
+      for (int l = 0; l < n; ++l)
+        simd::store_samples4(base + q.color[l], static_cast<std::uint32_t>(c[l]),
+                             static_cast<std::uint32_t>(q.samples[l]));
       return;
     }
-    words(q.span);
-    for (int l = 0; l < n; ++l)
-      for (int k = 0; k < q.span; ++k) base[at[k][l]] = static_cast<std::uint32_t>(c[l]);
+    for (int l = 0; l < n; ++l)  // 8x, 16x (MSAA counts are 1, 4, 8 and 16)
+      for (int k = 0; k < q.span; k += 4)
+        simd::store_samples4(base + q.color[l] + k, static_cast<std::uint32_t>(c[l]),
+                             static_cast<std::uint32_t>(q.samples[l]) >> k);
   }
-  // The same without blending, one scatter per sample index: the lanes' order keeps the queue's
-  // where two entries write one sample, and no branch depends on how many samples passed.
-  static void write_scattered(const ShadeQueue& q, int n, const I (&packed)[kBatchVectors]) {
-    auto* base = reinterpret_cast<std::int32_t*>(q.color_base);
-    for (int j = 0; j < kBatchVectors; ++j) {
-      const std::uint32_t queued = lanes_below(n - j * L);
-      const I index = I::load_aligned(q.color + j * L);
-      const I samples = I::load_aligned(q.samples + j * L);
-      for (int k = 0; k < q.span; ++k) {
-        const std::uint32_t lanes = M::bits((samples & I(1 << k)) != I(0)) & queued;
-        M::scatter(base, index + I(k), packed[j], lanes);
-      }
-    }
-  }
-
   /// The lowest `count` lanes' bits (none if count <= 0, all if count >= L).
   static std::uint32_t lanes_below(int count) {
     if (count <= 0) return 0;
@@ -445,11 +411,16 @@ struct ShadeSimd : simd::LaneTypes<A> {
   }
   /// Per lane, bit k set where sample k of block pixel p (0..63) passed: bits p * S .. p * S +
   /// S - 1 of the passed words, which lie in one 32-bit word (S divides 32). (Lanes past the
-  /// listed pixels hold any value: masked to a pixel, so that the gather stays in `passed`.)
+  /// listed pixels hold any value: masked to a pixel, so that the word stays in `passed`.)
+  /// `passed` holds kMaxSamples words, so that a vector of its 32-bit words can be loaded.
   static I sample_bits(const std::uint64_t* passed, int S, I p) {
     if (S == 1) return I(1);  // a queued pixel's one sample passed
     const I g = (p & I(raster::kBlockPixels - 1)) * I(S);
-    const I word = I::gather(reinterpret_cast<const std::int32_t*>(passed), g >> 5);
+    const auto* words = reinterpret_cast<const std::int32_t*>(passed);
+    // The block's 2S words fit one vector up to 4x on AVX2 (8x on AVX-512): a lane permute
+    // picks each lane's word; more take a gather.
+    const I word =
+        2 * S <= L ? M::permute(I::load_unaligned(words), g >> 5) : I::gather(words, g >> 5);
     return (word >> (g & I(31))) & I((1 << S) - 1);
   }
   // Writes (or blends) colour[j] lane l to sample s of pixel g * 16 + j * L + l of a block, for
