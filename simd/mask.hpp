@@ -295,9 +295,13 @@ struct Mask<xsimd::sse4_1> {
   }
   /// Bit j set where bits 4 j .. 4 j + 3 of m (lane group j) are not all zero.
   static std::uint32_t nonzero_groups(std::uint64_t m) {
-    std::uint32_t g = 0;
-    for (int j = 0; j < 16; ++j) g |= std::uint32_t{((m >> (4 * j)) & 0xfu) != 0} << j;
-    return g;
+    // Nibble j to byte j (low nibbles to the even bytes, high to the odd), then a byte compare.
+    const __m128i x = _mm_cvtsi64_si128(static_cast<long long>(m)), low = _mm_set1_epi8(0x0f);
+    const __m128i nibbles =
+        _mm_unpacklo_epi8(_mm_and_si128(x, low), _mm_and_si128(_mm_srli_epi16(x, 4), low));
+    const auto zero =
+        static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(nibbles, _mm_setzero_si128())));
+    return ~zero & 0xffffu;
   }
   /// Bit p set where nibble p of words[0 .. 4) (laid end to end, little-endian) is not zero: at
   /// 4x, the pixels of a block with a sample set (raster/tile.hpp).
