@@ -507,9 +507,11 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         const F fx_blk = F(static_cast<float>(px0));
         [[maybe_unused]] I pixel_color[kVectors];
         [[maybe_unused]] std::uint32_t shaded = 0;
-        // Generic draws: the lanes of each sample that passed the depth test, coloured after.
+        // Generic draws: the lanes of each sample that passed the depth test, coloured after. At
+        // least a vector of it is set, since shading may load a vector of its words.
         [[maybe_unused]] std::uint64_t passed[kGeneric ? kMaxSamples : 1];
-        if constexpr (kGeneric) std::fill_n(passed, S, std::uint64_t{0});
+        static_assert(!kGeneric || L / 2 <= kMaxSamples);
+        if constexpr (kGeneric) std::fill_n(passed, std::max(S, L / 2), std::uint64_t{0});
         // A block the hierarchical z accepts passes every covered sample without the test.
         const std::uint32_t keep = test ? 0u : kLaneBits;
         std::uint64_t written = 0, covered = 0;

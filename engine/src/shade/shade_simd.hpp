@@ -193,11 +193,19 @@ struct ShadeSimd : simd::LaneTypes<A> {
                                               float* ddy, int stride) {
     if (sh.varyings == 0) return;
     const front::Plane* p = planes + t.planes_base;  // q, then the varyings
-    const F q = plane(p[0], t.x0, t.y0, x, y);
+    // plane()'s terms, the offsets from the triangle's origin made once for every plane.
+    const F dx = x - F(t.x0), dy = y - F(t.y0);
+    const auto at = [&](const front::Plane& c) {
+      return (F(c.base) + F(c.ddx) * dx) + F(c.ddy) * dy;
+    };
+    const F q = at(p[0]);
+    if (!sh.derivatives) {
+      for (int k = 0; k < sh.varyings; ++k) put(varying + k * stride, at(p[1 + k]) / q);
+      return;
+    }
     for (int k = 0; k < sh.varyings; ++k) {
-      const F v = plane(p[1 + k], t.x0, t.y0, x, y) / q;
+      const F v = at(p[1 + k]) / q;
       put(varying + k * stride, v);
-      if (!sh.derivatives) continue;
       put(ddx + k * stride, slope(p[1 + k].ddx, p[0].ddx, v, q));
       put(ddy + k * stride, slope(p[1 + k].ddy, p[0].ddy, v, q));
     }
@@ -412,7 +420,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
   /// Per lane, bit k set where sample k of block pixel p (0..63) passed: bits p * S .. p * S +
   /// S - 1 of the passed words, which lie in one 32-bit word (S divides 32). (Lanes past the
   /// listed pixels hold any value: masked to a pixel, so that the word stays in `passed`.)
-  /// `passed` holds kMaxSamples words, so that a vector of its 32-bit words can be loaded.
+  /// `passed` holds at least a vector of 32-bit words (max(S, L / 2) 64-bit words).
   static I sample_bits(const std::uint64_t* passed, int S, I p) {
     if (S == 1) return I(1);  // a queued pixel's one sample passed
     const I g = (p & I(raster::kBlockPixels - 1)) * I(S);
