@@ -48,8 +48,6 @@ struct FrontEndSimd {
   static constexpr int N = static_cast<int>(D::size);  ///< triangles per batch
   static constexpr std::uint32_t kAllLanes = (1u << N) - 1;
 
-  using I = xsimd::batch<std::int64_t, A>;
-
   /// A batch's vertices, structure of arrays: [corner][lane].
   struct Vertices {
     alignas(64) double X[3][N], Y[3][N], Z[3][N], W[3][N];
@@ -199,9 +197,7 @@ struct FrontEndSimd {
     const Draw& draw = scalar.fetch.draw;
     const int nvary = scalar.nvary;
     const B ccw = load(r.ccw_lanes) != D(0.0);
-    I row[3];
-    for (int k = 0; k < 3; ++k)
-      row[k] = I::load_aligned(v.vertex[k]) * I(static_cast<std::int64_t>(attribute_row(draw)));
+    const auto stride = static_cast<std::int64_t>(attribute_row(draw));
     const D Xs[3] = {load(r.xs[0]), load(r.xs[1]), load(r.xs[2])};
     const D Ys[3] = {load(r.ys[0]), load(r.ys[1]), load(r.ys[2])};
     const D area = load(r.area_px2);
@@ -209,8 +205,13 @@ struct FrontEndSimd {
     const D qn[3] = {load(r.qn[0]), load(r.qn[1]), load(r.qn[2])};
     for (int j = 0; j < nvary; ++j) {
       const float* column = draw.attributes.data() + draw.varyings[j];
-      const D a[3] = {D::gather(column, row[0]), D::gather(column, row[1]),
-                      D::gather(column, row[2])};
+      // Read lane by lane from the corners' vertex numbers in memory: xsimd's gather of floats
+      // into doubles extracts each index through a store of the whole vector.
+      alignas(64) double corner[3][N];
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < N; ++l)
+          corner[k][l] = static_cast<double>(column[v.vertex[k][l] * stride]);
+      const D a[3] = {load(corner[0]), load(corner[1]), load(corner[2])};
       const auto o = oriented(ccw, a);
       for (int k = 0; k < 3; ++k) o[k].store_aligned(r.vary[k][j]);
       finite =
