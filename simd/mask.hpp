@@ -4,8 +4,8 @@
 // instructions are named: movmskps on SSE and AVX2, k-registers on AVX-512. Lane i is bit i.
 // Also here, for the same reason: rounding double lanes to float precision (to_float()), and
 // packing the lanes a mask selects into the low lanes, in order (compress()), the box mean of
-// each pixel's RGBA8 samples (means(): the resolve), and a pixel's four samples stored under a
-// mask (store_samples4()).
+// each pixel's RGBA8 samples (means(): the resolve), integer gathers (gather(): xsimd 8's reads
+// a lane at a time) and a pixel's four samples stored under a mask (store_samples4()).
 #pragma once
 
 #include <array>
@@ -161,6 +161,12 @@ struct Mask<xsimd::avx512bw> {
                                                const xsimd::batch<std::int32_t, A>& idx) {
     return _mm512_permutexvar_epi32(idx, v);
   }
+  /// Lane l: base[idx[l]]. (xsimd 8's integer gather falls back to a lane at a time, each
+  /// index read back through a store of the whole vector.)
+  static xsimd::batch<std::int32_t, A> gather(const std::int32_t* base,
+                                              const xsimd::batch<std::int32_t, A>& idx) {
+    return _mm512_i32gather_epi32(idx, base, 4);
+  }
   static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
                                                 std::uint32_t b) {
     return _mm512_maskz_compress_epi32(static_cast<__mmask16>(b), v);
@@ -254,6 +260,11 @@ struct Mask<xsimd::avx2> {
                                                const xsimd::batch<std::int32_t, A>& idx) {
     return _mm256_permutevar8x32_epi32(v, idx);
   }
+  /// Lane l: base[idx[l]] (see Mask<avx512bw>::gather()).
+  static xsimd::batch<std::int32_t, A> gather(const std::int32_t* base,
+                                              const xsimd::batch<std::int32_t, A>& idx) {
+    return _mm256_i32gather_epi32(base, idx, 4);
+  }
   static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
                                                 std::uint32_t b) {
     return _mm256_permutevar8x32_epi32(v, compress_index(b));
@@ -333,6 +344,12 @@ struct Mask<xsimd::sse4_1> {
     const __m128i bytes =
         _mm_add_epi32(_mm_mullo_epi32(idx, _mm_set1_epi32(0x04040404)), _mm_set1_epi32(0x03020100));
     return _mm_shuffle_epi8(v, bytes);
+  }
+  /// Lane l: base[idx[l]] (see Mask<avx512bw>::gather()).
+  static xsimd::batch<std::int32_t, A> gather(const std::int32_t* base,
+                                              const xsimd::batch<std::int32_t, A>& idx) {
+    return _mm_setr_epi32(base[_mm_cvtsi128_si32(idx)], base[_mm_extract_epi32(idx, 1)],
+                          base[_mm_extract_epi32(idx, 2)], base[_mm_extract_epi32(idx, 3)]);
   }
   static xsimd::batch<std::int32_t, A> compress(const xsimd::batch<std::int32_t, A>& v,
                                                 std::uint32_t b) {

@@ -1,7 +1,7 @@
 // simd/mask.hpp and simd/records.hpp, the vocabulary every SIMD stage is written in, on each
 // instruction set this build compiles and this CPU runs, against scalar models: lane groups
 // holding a bit, sign bits, masks to and from lanes, rounding to float, compress, a pixel's bits
-// of four masks, four samples stored under a mask, and records (whole, or their first 16
+// of four masks, gathers, four samples stored under a mask, and records (whole, or their first 16
 // bytes) transposed into lanes. The stages use these at every block and batch, so an error here
 // would show only as a wrong image somewhere; here it shows as the helper and the input that broke.
 // The helpers are compiled per set by tests/isa/mask_probe.cpp.
@@ -37,6 +37,7 @@
   void probe_compress_float(const float* in, std::uint32_t b, float* out);                  \
   void probe_means(int S, const std::int32_t* in, std::int32_t* out);                       \
   void probe_permute(const std::int32_t* in, const std::int32_t* idx, std::int32_t* out);   \
+  void probe_gather(const std::int32_t* base, const std::int32_t* idx, std::int32_t* out);  \
   void probe_store_samples4(std::uint32_t* words, std::uint32_t value, std::uint32_t bits); \
   void probe_columns(const void* const* rows, std::uint64_t (*words)[16], double* low,      \
                      double* high);                                                         \
@@ -75,6 +76,7 @@ struct Probe {
   void (*compress_float)(const float*, std::uint32_t, float*);
   void (*means)(int, const std::int32_t*, std::int32_t*);
   void (*permute)(const std::int32_t*, const std::int32_t*, std::int32_t*);
+  void (*gather)(const std::int32_t*, const std::int32_t*, std::int32_t*);
   void (*store_samples4)(std::uint32_t*, std::uint32_t, std::uint32_t);
   void (*columns)(const void* const*, std::uint64_t (*)[16], double*, double*);
   void (*heads)(const void* const*, std::uint32_t (*)[16]);
@@ -91,8 +93,9 @@ struct Probe {
         &mosaic::simd::ns::probe_double_less, &mosaic::simd::ns::probe_to_float,           \
         &mosaic::simd::ns::probe_compress_int, &mosaic::simd::ns::probe_compress_float,    \
         &mosaic::simd::ns::probe_means, &mosaic::simd::ns::probe_permute,                  \
-        &mosaic::simd::ns::probe_store_samples4, &mosaic::simd::ns::probe_columns,         \
-        &mosaic::simd::ns::probe_heads, &mosaic::simd::ns::probe_rows                      \
+        &mosaic::simd::ns::probe_gather, &mosaic::simd::ns::probe_store_samples4,          \
+        &mosaic::simd::ns::probe_columns, &mosaic::simd::ns::probe_heads,                  \
+        &mosaic::simd::ns::probe_rows                                                      \
   }
 
 // The probes of every set this build compiles and this CPU runs.
@@ -161,6 +164,25 @@ TEST_F(SimdMask, NonzeroGroupsMarksEachGroupHoldingABit) {
 
 // Bit p where nibble p of four words laid end to end (a 4x block's samples, pixel-major) holds a
 // set bit: every single bit, every nibble alone full, and random words, sparse and dense.
+// Lane l: base[idx[l]], for indices anywhere in a table (repeated, and at both ends).
+TEST_F(SimdMask, GatherReadsEachLanesWord) {
+  std::array<std::int32_t, 64> base{};
+  for (std::size_t i = 0; i < base.size(); ++i)
+    base[i] = static_cast<std::int32_t>(0x5a000000u + 977u * i);
+  for (const Probe& p : probes_) {
+    const int L = p.lanes();
+    for (int k = 0; k < 500; ++k) {
+      std::int32_t idx[kMaxLanes], got[kMaxLanes];
+      for (int l = 0; l < L; ++l)
+        idx[l] = k == 0 ? (l % 2 ? 63 : 0) : static_cast<std::int32_t>(rng_() % base.size());
+      p.gather(base.data(), idx, got);
+      for (int l = 0; l < L; ++l)
+        ASSERT_EQ(got[l], base[static_cast<std::size_t>(idx[l])])
+            << mosaic::to_string(p.isa) << " lane " << l << " index " << idx[l];
+    }
+  }
+}
+
 // A shaded pixel's colour into the samples that passed (a 4-bit mask; higher bits ignored),
 // the other words of the four and their neighbours left alone, at every alignment of a word.
 TEST_F(SimdMask, StoreSamples4WritesExactlyTheSamplesThatPassed) {

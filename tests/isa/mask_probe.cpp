@@ -64,6 +64,10 @@ void probe_permute(const std::int32_t* in, const std::int32_t* idx, std::int32_t
   T::M::permute(T::I::load_unaligned(in), T::I::load_unaligned(idx)).store_unaligned(out);
 }
 
+void probe_gather(const std::int32_t* base, const std::int32_t* idx, std::int32_t* out) {
+  T::M::gather(base, T::I::load_unaligned(idx)).store_unaligned(out);
+}
+
 // store_samples4(), compiled with this set's flags.
 void probe_store_samples4(std::uint32_t* words, std::uint32_t value, std::uint32_t bits) {
   store_samples4(words, value, bits);

@@ -428,7 +428,7 @@ struct ShadeSimd : simd::LaneTypes<A> {
     // The block's 2S words fit one vector up to 4x on AVX2 (8x on AVX-512): a lane permute
     // picks each lane's word; more take a gather.
     const I word =
-        2 * S <= L ? M::permute(I::load_unaligned(words), g >> 5) : I::gather(words, g >> 5);
+        2 * S <= L ? M::permute(I::load_unaligned(words), g >> 5) : M::gather(words, g >> 5);
     return (word >> (g & I(31))) & I((1 << S) - 1);
   }
   // Writes (or blends) colour[j] lane l to sample s of pixel g * 16 + j * L + l of a block, for
