@@ -536,7 +536,11 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                   static_cast<std::int32_t>(c2), roff, row_down, S, rows, cov);
           } else {
             if (!doff_built) {
-              build_doff(a, b, cx, S, doff);
+              // S passed through an empty asm: GCC (AVX-512) otherwise ran this pure build for
+              // every triangle, ahead of the rare blocks that need it.
+              int s = S;
+              asm volatile("" : "+r"(s));
+              build_doff(a, b, cx, s, doff);
               doff_built = true;
             }
             coverage_f64(eorg, b, S, doff, cov);
