@@ -89,8 +89,11 @@ struct ShadeSimd : simd::LaneTypes<A> {
 
   // eval_plane() of front/setup.hpp, lane-wise, in the same order of operations.
   [[gnu::always_inline]] static F plane(const front::Plane& p, float x0, float y0, F x, F y) {
-    const F v = F(p.base) + F(p.ddx) * (x - F(x0));
-    return v + F(p.ddy) * (y - F(y0));
+    return plane_at(p, x - F(x0), y - F(y0));
+  }
+  // The same from the offsets (dx, dy) = (x - x0, y - y0), for planes sharing an origin.
+  [[gnu::always_inline]] static F plane_at(const front::Plane& p, F dx, F dy) {
+    return (F(p.base) + F(p.ddx) * dx) + F(p.ddy) * dy;
   }
   // clamp_like_simd() of front/setup.hpp: max(v, lo) is v > lo ? v : lo lane-wise (maxps, NaN
   // to lo), min(m, hi) is m < hi ? m : hi; one instruction each instead of a compare and a blend.
@@ -193,18 +196,16 @@ struct ShadeSimd : simd::LaneTypes<A> {
                                               float* ddy, int stride) {
     if (sh.varyings == 0) return;
     const front::Plane* p = planes + t.planes_base;  // q, then the varyings
-    // plane()'s terms, the offsets from the triangle's origin made once for every plane.
+    // The offsets from the triangle's origin, made once for all its planes.
     const F dx = x - F(t.x0), dy = y - F(t.y0);
-    const auto at = [&](const front::Plane& c) {
-      return (F(c.base) + F(c.ddx) * dx) + F(c.ddy) * dy;
-    };
-    const F q = at(p[0]);
+    const F q = plane_at(p[0], dx, dy);
     if (!sh.derivatives) {
-      for (int k = 0; k < sh.varyings; ++k) put(varying + k * stride, at(p[1 + k]) / q);
+      for (int k = 0; k < sh.varyings; ++k)
+        put(varying + k * stride, plane_at(p[1 + k], dx, dy) / q);
       return;
     }
     for (int k = 0; k < sh.varyings; ++k) {
-      const F v = at(p[1 + k]) / q;
+      const F v = plane_at(p[1 + k], dx, dy) / q;
       put(varying + k * stride, v);
       put(ddx + k * stride, slope(p[1 + k].ddx, p[0].ddx, v, q));
       put(ddy + k * stride, slope(p[1 + k].ddy, p[0].ddy, v, q));
