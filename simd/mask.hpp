@@ -306,29 +306,32 @@ struct Mask<xsimd::sse4_1> {
   }
   /// Bit j set where bits 4 j .. 4 j + 3 of m (lane group j) are not all zero.
   static std::uint32_t nonzero_groups(std::uint64_t m) {
-    // Nibble j to byte j (low nibbles to the even bytes, high to the odd), then a byte compare.
-    const __m128i x = _mm_cvtsi64_si128(static_cast<long long>(m)), low = _mm_set1_epi8(0x0f);
-    const __m128i nibbles =
-        _mm_unpacklo_epi8(_mm_and_si128(x, low), _mm_and_si128(_mm_srli_epi16(x, 4), low));
-    const auto zero =
-        static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(nibbles, _mm_setzero_si128())));
-    return ~zero & 0xffffu;
+    __m128i low, high;  // (high: the zero upper half of the register, unused)
+    nibble_bytes(_mm_cvtsi64_si128(static_cast<long long>(m)), low, high);
+    return ~zero_bytes(low) & 0xffffu;
   }
   /// Bit p set where nibble p of words[0 .. 4) (laid end to end, little-endian) is not zero: at
   /// 4x, the pixels of a block with a sample set (raster/tile.hpp).
   static std::uint64_t nonzero_nibbles(const std::uint64_t* words) {
-    const __m128i low = _mm_set1_epi8(0x0f), zero = _mm_setzero_si128();
     std::uint64_t empty = 0;
     for (int h = 0; h < 2; ++h) {  // 16 bytes: nibbles 32 h .. 32 h + 31, a byte each
-      const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(words + 2 * h));
-      const __m128i lo = _mm_and_si128(x, low), hi = _mm_and_si128(_mm_srli_epi16(x, 4), low);
-      const auto a = static_cast<std::uint32_t>(
-          _mm_movemask_epi8(_mm_cmpeq_epi8(_mm_unpacklo_epi8(lo, hi), zero)));
-      const auto b = static_cast<std::uint32_t>(
-          _mm_movemask_epi8(_mm_cmpeq_epi8(_mm_unpackhi_epi8(lo, hi), zero)));
-      empty |= (a | std::uint64_t{b} << 16) << (32 * h);
+      __m128i low, high;
+      nibble_bytes(_mm_loadu_si128(reinterpret_cast<const __m128i*>(words + 2 * h)), low, high);
+      empty |= (zero_bytes(low) | std::uint64_t{zero_bytes(high)} << 16) << (32 * h);
     }
     return ~empty;
+  }
+  /// The 32 nibbles of x, a byte each, in order: the low nibble of byte i to byte 2i, its high
+  /// nibble to byte 2i + 1; those of x's low 8 bytes in `low`, of its high 8 in `high`.
+  static void nibble_bytes(__m128i x, __m128i& low, __m128i& high) {
+    const __m128i mask = _mm_set1_epi8(0x0f);
+    const __m128i lo = _mm_and_si128(x, mask), hi = _mm_and_si128(_mm_srli_epi16(x, 4), mask);
+    low = _mm_unpacklo_epi8(lo, hi);
+    high = _mm_unpackhi_epi8(lo, hi);
+  }
+  /// Bit j set where byte j of v is zero.
+  static std::uint32_t zero_bytes(__m128i v) {
+    return static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128())));
   }
   static __m128i expand(std::uint32_t b) {
     const __m128i lane_bit = _mm_setr_epi32(1, 2, 4, 8);
