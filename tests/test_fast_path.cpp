@@ -999,7 +999,8 @@ TEST(FastPath, OccludersAreSortedFromTwoTilesOfArea) {
 
 // Triangles whose boxes start at every row and column offset in a block, 1 to 17 px tall and
 // wide: boxes within 2×2 blocks take the small-box walker (coverage of the rows a box meets
-// only), taller or wider ones the block walker, and boxes of a few pixels the one-pixel path.
+// only), taller or wider ones the block walker, and boxes of at most 4 pixels in one block the
+// few-pixel path (2×2 and 4×1 at that bound, 5×1 and 2×3 just over), shaded draws too.
 // Flat, per-vertex and shaded colour, depth-only draws, at the sample counts whose kernels have
 // the small-box walker (1 and 4) and one that has not (8): as the reference, on every SIMD path.
 TEST(FastPath, SmallBoxWalkerMatchesReferenceAtEveryOffsetInABlock) {
@@ -1010,7 +1011,7 @@ TEST(FastPath, SmallBoxWalkerMatchesReferenceAtEveryOffsetInABlock) {
   for (int oy = 0; oy < 8; ++oy)
     for (int side_y : {1, 2, 3, 7, 8, 9, 10, 16, 17})
       for (int ox : {0, 3, 7})
-        for (int side_x : {1, 5, 8, 9, 16, 17}) {
+        for (int side_x : {1, 2, 4, 5, 8, 9, 16, 17}) {
           // The box's corner at (ox, oy) in a random block; a fat triangle over the box, its
           // apex at either side, so that its top and bottom rows hold covered samples.
           const float x = static_cast<float>(8 * (rng.next() % 18) + ox);

@@ -259,8 +259,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     // The small-box walker where the traits fix a count of several samples (the 4x kernels of
     // the default depth state): at one sample a block's coverage is a few vectors.
     constexpr Walk kSmall = K::kSamples > 1 ? Walk::kSmallBox : Walk::kBlocks;
-    // A shader draw's pixels take the block walker's batches.
-    if constexpr (K::kGeneric)
+    // A shader that discards writes depth after shading, which only the block walker does.
+    if constexpr (K::kLateZ)
       return {&triangle_impl<K>, &triangle_impl<K, kSmall>, &triangle_impl<K, kSmall>};
     else if constexpr (kUsesPlanes<K>)
       return {&depth_only_walker<K, Walk::kBlocks>, &pixel_impl<K>, &depth_only_walker<K, kSmall>};
@@ -710,14 +710,21 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       if (cx.planes && cx.sc.plane_pending[blk]) take_plane(cx, blk);
     }
     std::uint64_t covered = 0, written = 0;
+    // A shaded draw's passed samples, by lane of the block's sample memory, as the walker has
+    // them (at least a vector of words, which shading may load).
+    [[maybe_unused]] std::uint64_t passed[K::kGeneric ? kMaxSamples : 1];
+    if constexpr (K::kGeneric) std::fill_n(passed, std::max(S, L / 2), std::uint64_t{0});
     if (t.bx1 - t.bx0 == 1 && t.by1 - t.by0 == 1) {  // the common box: one pixel
       pixel_samples<K>(cx, t, blk, px0, py0, t.bx0 - px0, t.by0 - py0, inside, test, covered,
-                       written);
+                       written, passed);
     } else {
       for (int py = t.by0; py < t.by1; ++py)
         for (int px = t.bx0; px < t.bx1; ++px)
-          pixel_samples<K>(cx, t, blk, px0, py0, px - px0, py - py0, inside, test, covered,
-                           written);
+          pixel_samples<K>(cx, t, blk, px0, py0, px - px0, py - py0, inside, test, covered, written,
+                           passed);
+    }
+    if constexpr (K::kGeneric) {
+      if (written) color_generic(cx, t, blk, px0, py0, passed);
     }
     cx.st.samples_tested += covered;
     cx.st.samples_written += written;
@@ -732,7 +739,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   [[gnu::always_inline]] static void pixel_samples(Context& cx, const front::TriangleSetup& t,
                                                    int blk, int px0, int py0, int col, int row,
                                                    std::uint64_t inside, bool test,
-                                                   std::uint64_t& covered, std::uint64_t& written) {
+                                                   std::uint64_t& covered, std::uint64_t& written,
+                                                   std::uint64_t* passed) {
     const int p = row * kBlockSize + col;
     if (!((inside >> p) & 1)) return;
     const int S = K::kSamples ? K::kSamples : cx.f.samples;
@@ -758,7 +766,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       if (test && !passes_one<K::kTest>(z, d)) continue;
       if constexpr (K::kWrite) d = z;
       ++written;
-      if constexpr (K::kColor == ColorMode::kFlat) {
+      if constexpr (K::kGeneric) {
+        const std::size_t lane = static_cast<std::size_t>(p * S + s);
+        passed[lane / 64] |= std::uint64_t{1} << (lane % 64);
+      } else if constexpr (K::kColor == ColorMode::kFlat) {
         cpix[s] = static_cast<std::uint32_t>(Sh::bits_of(t.color));
       } else if constexpr (K::kColor == ColorMode::kInterpolated) {
         const front::Plane* planes = cx.ln.planes + t.planes_base;
