@@ -710,21 +710,31 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       if (cx.planes && cx.sc.plane_pending[blk]) take_plane(cx, blk);
     }
     std::uint64_t covered = 0, written = 0;
-    // A shaded draw's passed samples, by lane of the block's sample memory, as the walker has
-    // them (at least a vector of words, which shading may load).
+    // A shaded draw: a queued shader under MSAA takes each pixel into its queue at once (a few
+    // pixels never fill a batch); otherwise the passed samples are set by lane of the block's
+    // sample memory, as the walker has them (at least a vector of words, which shading may
+    // load), and the block is coloured after.
     [[maybe_unused]] std::uint64_t passed[K::kGeneric ? kMaxSamples : 1];
-    if constexpr (K::kGeneric) std::fill_n(passed, std::max(S, L / 2), std::uint64_t{0});
+    [[maybe_unused]] bool queued = false;
+    if constexpr (K::kGeneric) {
+      queued = Sh::queues(cx.f.shading[t.draw()]) && !cx.f.ssaa;
+      if (!queued) std::fill_n(passed, std::max(S, L / 2), std::uint64_t{0});
+    }
+    const auto pixel = [&](int col, int row) {
+      const std::uint32_t kept =
+          pixel_samples<K>(cx, t, blk, px0, py0, col, row, inside, test, covered, written);
+      if constexpr (K::kGeneric) {
+        if (kept) shade_pixel<K>(cx, t, blk, px0, py0, col, row, kept, queued, passed);
+      }
+    };
     if (t.bx1 - t.bx0 == 1 && t.by1 - t.by0 == 1) {  // the common box: one pixel
-      pixel_samples<K>(cx, t, blk, px0, py0, t.bx0 - px0, t.by0 - py0, inside, test, covered,
-                       written, passed);
+      pixel(t.bx0 - px0, t.by0 - py0);
     } else {
       for (int py = t.by0; py < t.by1; ++py)
-        for (int px = t.bx0; px < t.bx1; ++px)
-          pixel_samples<K>(cx, t, blk, px0, py0, px - px0, py - py0, inside, test, covered, written,
-                           passed);
+        for (int px = t.bx0; px < t.bx1; ++px) pixel(px - px0, py - py0);
     }
     if constexpr (K::kGeneric) {
-      if (written) color_generic(cx, t, blk, px0, py0, passed);
+      if (written && !queued) color_generic(cx, t, blk, px0, py0, passed);
     }
     cx.st.samples_tested += covered;
     cx.st.samples_written += written;
@@ -734,15 +744,14 @@ struct TileKernelImpl : simd::LaneTypes<A> {
 
   // The samples of pixel (col, row) of block blk (corner px0, py0) for few_pixels(): exact edge
   // values, the reference's depth, and the kernel's colour, at the lanes' positions (block corner
-  // plus column and sample offset); adds the samples covered and written.
+  // plus column and sample offset); adds the samples covered and written. Returns a shaded
+  // draw's samples that passed (bit s: sample s), which it leaves to shade_pixel().
   template <class K>
-  [[gnu::always_inline]] static void pixel_samples(Context& cx, const front::TriangleSetup& t,
-                                                   int blk, int px0, int py0, int col, int row,
-                                                   std::uint64_t inside, bool test,
-                                                   std::uint64_t& covered, std::uint64_t& written,
-                                                   std::uint64_t* passed) {
+  [[gnu::always_inline]] static std::uint32_t pixel_samples(
+      Context& cx, const front::TriangleSetup& t, int blk, int px0, int py0, int col, int row,
+      std::uint64_t inside, bool test, std::uint64_t& covered, std::uint64_t& written) {
     const int p = row * kBlockSize + col;
-    if (!((inside >> p) & 1)) return;
+    if (!((inside >> p) & 1)) return 0;
     const int S = K::kSamples ? K::kSamples : cx.f.samples;
     // The pixel's samples, side by side (pixel-major).
     const std::size_t first = (static_cast<std::size_t>(blk) * kBlockPixels + p) * S;
@@ -755,6 +764,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
                        y = std::int64_t{py0 + row} * kSubpixel;
     [[maybe_unused]] std::uint32_t pixel_color = 0;
     [[maybe_unused]] bool shaded = false;
+    std::uint32_t kept = 0;
     for (int s = 0; s < S; ++s) {
       const std::int64_t sx = x + (K::kOneSample ? kHalf : cx.soff[0][s]);
       const std::int64_t sy = y + (K::kOneSample ? kHalf : cx.soff[1][s]);
@@ -767,8 +777,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       if constexpr (K::kWrite) d = z;
       ++written;
       if constexpr (K::kGeneric) {
-        const std::size_t lane = static_cast<std::size_t>(p * S + s);
-        passed[lane / 64] |= std::uint64_t{1} << (lane % 64);
+        kept |= 1u << s;
       } else if constexpr (K::kColor == ColorMode::kFlat) {
         cpix[s] = static_cast<std::uint32_t>(Sh::bits_of(t.color));
       } else if constexpr (K::kColor == ColorMode::kInterpolated) {
@@ -783,6 +792,31 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         cpix[s] = pixel_color;
       }
     }
+    return kept;
+  }
+
+  // A shaded draw's pixel (col, row) of block blk, whose samples `kept` passed: into the
+  // shading queue (`queued`), at the pixel centre as the queue's other entries, or into the
+  // block's passed words for color_generic().
+  template <class K>
+  [[gnu::always_inline]] static void shade_pixel(Context& cx, const front::TriangleSetup& t,
+                                                 int blk, int px0, int py0, int col, int row,
+                                                 std::uint32_t kept, bool queued,
+                                                 std::uint64_t* passed) {
+    const int S = K::kSamples ? K::kSamples : cx.f.samples;
+    const int lane = (row * kBlockSize + col) * S;  // its first sample in the block's memory
+    if (!queued) {
+      passed[lane / 64] |= std::uint64_t{kept} << (lane % 64);
+      return;
+    }
+    const TileFrame& f = cx.f;
+    const std::uint32_t* first =
+        cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + lane;
+    Sh::enqueue_pixel(cx.queue, cx.ln, t, f.shading[t.draw()],
+                      f.states[t.draw()].blend == BlendMode::kSourceOver, S,
+                      (static_cast<float>(px0) + static_cast<float>(col)) + 0.5f,
+                      (static_cast<float>(py0) + static_cast<float>(row)) + 0.5f,
+                      static_cast<std::int32_t>(first - cx.queue.color_base), kept);
   }
 
   template <DepthTest kTest>

@@ -511,16 +511,40 @@ struct ShadeSimd : simd::LaneTypes<A> {
   // after the queue is written (it holds earlier triangles' pixels); partial ones are queued.
   // A shader that discards is never queued: its block is shaded at once, and the lanes it drops
   // are cleared from `passed`, so that the caller writes depth only for those kept.
+  /// Whether a draw's pixels go through the queue: a shader that never discards.
+  static bool queues(const DrawShading& sh) { return sh.function != nullptr && !sh.discards; }
+  /// Makes draw `sh` the queue's, writing out another draw's entries first; `span` is the
+  /// samples an entry may write.
+  static void use_draw(ShadeQueue& q, const DrawShading& sh, bool blend, int span) {
+    if (q.shading == &sh) return;
+    flush(q);
+    q.shading = &sh;
+    q.blend = blend;
+    q.span = span;
+  }
+  /// Queues one pixel of triangle t for a queued draw under MSAA, as color_block() queues a
+  /// partial batch's pixels: its centre (x, y), its first colour sample `color` (an index into
+  /// color_base) and the bits of its samples that passed. For triangles of a few pixels, which
+  /// never fill a batch of a block.
+  static void enqueue_pixel(ShadeQueue& q, const Lanes& ln, const front::TriangleSetup& t,
+                            const DrawShading& sh, bool blend, int S, float x, float y,
+                            std::int32_t color, std::uint32_t samples) {
+    use_draw(q, sh, blend, S);
+    begin(q, t, ln.planes);
+    const int n = q.n;
+    q.x[n] = x;
+    q.y[n] = y;
+    q.color[n] = color;
+    q.samples[n] = static_cast<std::int32_t>(samples);
+    q.n = n + 1;
+    if (q.n >= kShaderBatch) flush(q);
+  }
+
   static void color_block(const Lanes& ln, ShadeQueue& q, const front::TriangleSetup& t,
                           const DrawShading& sh, bool blend, bool ssaa, int S, std::uint32_t* cblk,
                           int px0, int py0, std::uint64_t* passed) {
-    const bool queued = sh.function != nullptr && !sh.discards;
-    if (queued && q.shading != &sh) {
-      flush(q);
-      q.shading = &sh;
-      q.blend = blend;
-      q.span = ssaa ? 1 : S;
-    }
+    const bool queued = queues(sh);
+    if (queued) use_draw(q, sh, blend, ssaa ? 1 : S);
     const F fx_blk(static_cast<float>(px0)), fy_blk(static_cast<float>(py0));
     // The block's first colour sample as a queue entry's index, for a queued shader.
     const auto first = queued ? static_cast<std::int32_t>(cblk - q.color_base) : 0;
