@@ -679,8 +679,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
 
   // The block walk of triangle_impl() for a box of a few pixels in one block, in scalar code:
   // the block's corner test, its hierarchical z with the box's depth range [blo, bhi], each
-  // pixel's samples (pixel_samples()), and the block's counters and bounds as the walker keeps
-  // them.
+  // pixel's samples (pixel_samples()) and a shaded draw's colour (shade_pixel()), and the
+  // block's counters and bounds as the walker keeps them.
   template <class K>
   [[gnu::always_inline]] static void few_pixels(Context& cx, const front::TriangleSetup& t,
                                                 float blo, float bhi) {

@@ -505,12 +505,6 @@ struct ShadeSimd : simd::LaneTypes<A> {
     }
   }
 
-  // Colours a block of a generic draw where its samples passed: per pixel at the pixel centre
-  // (MSAA; only pixels some sample of which passed are active) or per sample (SSAA), blended
-  // over each sample's colour when the draw blends. A shader's whole batches are shaded here,
-  // after the queue is written (it holds earlier triangles' pixels); partial ones are queued.
-  // A shader that discards is never queued: its block is shaded at once, and the lanes it drops
-  // are cleared from `passed`, so that the caller writes depth only for those kept.
   /// Whether a draw's pixels go through the queue: a shader that never discards.
   static bool queues(const DrawShading& sh) { return sh.function != nullptr && !sh.discards; }
   /// Makes draw `sh` the queue's, writing out another draw's entries first; `span` is the
@@ -540,6 +534,12 @@ struct ShadeSimd : simd::LaneTypes<A> {
     if (q.n >= kShaderBatch) flush(q);
   }
 
+  // Colours a block of a generic draw where its samples passed: per pixel at the pixel centre
+  // (MSAA; only pixels some sample of which passed are active) or per sample (SSAA), blended
+  // over each sample's colour when the draw blends. A shader's whole batches are shaded here,
+  // after the queue is written (it holds earlier triangles' pixels); partial ones are queued.
+  // A shader that discards is never queued: its block is shaded at once, and the lanes it drops
+  // are cleared from `passed`, so that the caller writes depth only for those kept.
   static void color_block(const Lanes& ln, ShadeQueue& q, const front::TriangleSetup& t,
                           const DrawShading& sh, bool blend, bool ssaa, int S, std::uint32_t* cblk,
                           int px0, int py0, std::uint64_t* passed) {
