@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -704,6 +705,57 @@ TEST(Shaders, DeterministicAcrossThreadCounts) {
     for (int threads : {2, 7})
       expect_same(one, render(draws, w, h, 4, false, isa, threads),
                   std::to_string(threads) + " threads " + to_string(isa));
+  }
+}
+
+// Varyings to the last bit: a shader that shows the low byte of each varying's float bits, so
+// that a one-ulp difference from the reference's interpolation changes a channel. Perspective
+// triangles (each corner its own w, so q varies) with boxes of one to a few pixels, which the
+// kernels queue one pixel at a time (the few-pixel path, varyings made in scalar), among larger
+// ones whose pixels share vectors; every ISA, 1x and 4x, 1 and 2 threads, against the reference.
+TEST(Shaders, VaryingsOfTinyAndLargerTrianglesMatchTheReferenceBitForBit) {
+  const int w = 96, h = 80;
+  test::Rng rng(31);
+  std::vector<glm::vec4> positions;
+  std::vector<float> attributes;
+  for (int i = 0; i < 1200; ++i) {
+    // Boxes of about a pixel for most, up to 12 px for one in eight.
+    const double r = i % 8 == 0 ? rng.uniform(3, 12) : rng.uniform(0.3, 1.6);
+    const double cx = rng.uniform(0, w), cy = rng.uniform(0, h), z = rng.uniform(0.05, 0.95);
+    for (int k = 0; k < 3; ++k) {
+      const double px = cx + rng.uniform(-r, r), py = cy + rng.uniform(-r, r);
+      const double wv = rng.uniform(0.5, 3.0);
+      positions.emplace_back(static_cast<float>((2 * px / w - 1) * wv),
+                             static_cast<float>((2 * py / h - 1) * wv), static_cast<float>(z * wv),
+                             static_cast<float>(wv));
+      for (int a = 0; a < 3; ++a) attributes.push_back(static_cast<float>(rng.uniform(-3, 3)));
+    }
+  }
+  const std::vector<std::uint32_t> varyings{0, 1, 2};
+  const auto low_byte = [](float v) {
+    return static_cast<float>(std::bit_cast<std::uint32_t>(v) & 0xffu) / 255.0f;
+  };
+  Draw d;
+  d.positions = positions;
+  d.attributes = attributes;
+  d.attribute_count = 3;
+  d.varyings = varyings;
+  d.state.cull = CullMode::kNone;
+  d.shader = make_shader(
+      [=](const Fragment& f) {
+        return glm::vec4(low_byte(f.varying(0)), low_byte(f.varying(1)), low_byte(f.varying(2)),
+                         1.0f);
+      },
+      3);
+  const Draw draws[] = {d};
+  for (int samples : {1, 4}) {
+    const Image ref = render(draws, w, h, samples, false, Isa::kReference, 1);
+    EXPECT_GT(ref.stats.samples_written, 0u);
+    for (Isa isa : simd_isas())
+      for (int threads : {1, 2})
+        expect_same(ref, render(draws, w, h, samples, false, isa, threads),
+                    std::to_string(samples) + "x " + to_string(isa) + " threads " +
+                        std::to_string(threads));
   }
 }
 

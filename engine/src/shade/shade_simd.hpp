@@ -224,6 +224,19 @@ struct ShadeSimd : simd::LaneTypes<A> {
     }
   }
 
+  /// varyings() for queue entry `at` alone, without derivatives, in scalar: the same operations
+  /// as its lane, without a vector's broadcasts and divisions for one pixel (a triangle of a
+  /// pixel or two, which the few-pixel path queues).
+  static void varyings_of_one(const front::TriangleSetup& t, const front::Plane* planes,
+                              const DrawShading& sh, ShadeQueue& q, int at) {
+    if (sh.varyings == 0) return;
+    const front::Plane* p = planes + t.planes_base;  // q, then the varyings
+    const float dx = q.x[at] - t.x0, dy = q.y[at] - t.y0;
+    const auto plane_at = [&](const front::Plane& e) { return (e.base + e.ddx * dx) + e.ddy * dy; };
+    const float w = plane_at(p[0]);
+    for (int k = 0; k < sh.varyings; ++k) q.varying[k][at] = plane_at(p[1 + k]) / w;
+  }
+
   /// Makes the varyings and facing of the pending entries (q.pending..q.n-1), those of one
   /// triangle, a vector of packed entries at a time: the triangle's few pixels in each block
   /// share vectors. Each lane's values depend on its own position only, so they equal those
@@ -233,11 +246,15 @@ struct ShadeSimd : simd::LaneTypes<A> {
     const int from = q.pending;
     if (from >= q.n) return;
     const front::TriangleSetup& t = *q.triangle;
-    for (int at = from; at < q.n; at += L) {
-      varyings(
-          t, q.planes, *q.shading, F::load_unaligned(q.x + at), F::load_unaligned(q.y + at),
-          [&](float* row, F value) { value.store_unaligned(row + at); }, q.varying[0], q.ddx[0],
-          q.ddy[0], ShadeQueue::kRow);
+    if (q.n - from == 1 && !q.shading->derivatives) {
+      varyings_of_one(t, q.planes, *q.shading, q, from);
+    } else {
+      for (int at = from; at < q.n; at += L) {
+        varyings(
+            t, q.planes, *q.shading, F::load_unaligned(q.x + at), F::load_unaligned(q.y + at),
+            [&](float* row, F value) { value.store_unaligned(row + at); }, q.varying[0], q.ddx[0],
+            q.ddy[0], ShadeQueue::kRow);
+      }
     }
     q.front_facing |= (((std::uint64_t{1} << (q.n - from)) - 1) << from) & front_lanes(t);
     q.pending = q.n;
