@@ -224,17 +224,15 @@ struct ShadeSimd : simd::LaneTypes<A> {
     }
   }
 
-  /// varyings() for queue entry `at` alone, without derivatives, in scalar: the same operations
-  /// as its lane, without a vector's broadcasts and divisions for one pixel (a triangle of a
-  /// pixel or two, which the few-pixel path queues).
+  /// varyings() for queue entry `at` alone, without derivatives: the reference's own scalar
+  /// evaluation (varying_at()), without a vector's broadcasts and divisions for one pixel (a
+  /// triangle of a pixel or two, which the few-pixel path queues).
   static void varyings_of_one(const front::TriangleSetup& t, const front::Plane* planes,
                               const DrawShading& sh, ShadeQueue& q, int at) {
     if (sh.varyings == 0) return;
-    const front::Plane* p = planes + t.planes_base;  // q, then the varyings
-    const float dx = q.x[at] - t.x0, dy = q.y[at] - t.y0;
-    const auto plane_at = [&](const front::Plane& e) { return (e.base + e.ddx * dx) + e.ddy * dy; };
-    const float w = plane_at(p[0]);
-    for (int k = 0; k < sh.varyings; ++k) q.varying[k][at] = plane_at(p[1 + k]) / w;
+    const float x = q.x[at], y = q.y[at];
+    const float w = front::eval_plane(planes[t.planes_base], t.x0, t.y0, x, y);
+    for (int k = 0; k < sh.varyings; ++k) q.varying[k][at] = varying_at(t, planes, k, w, x, y);
   }
 
   /// Makes the varyings and facing of the pending entries (q.pending..q.n-1), those of one
