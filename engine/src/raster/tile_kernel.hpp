@@ -812,8 +812,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     const TileFrame& f = cx.f;
     const std::uint32_t* first =
         cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels + lane;
-    Sh::enqueue_pixel(cx.queue, cx.ln, t, f.shading[t.draw()],
-                      f.states[t.draw()].blend == BlendMode::kSourceOver, S,
+    Sh::enqueue_pixel(cx.queue, cx.ln, t, f.shading[t.draw()], blends(f, t), S,
                       (static_cast<float>(px0) + static_cast<float>(col)) + 0.5f,
                       (static_cast<float>(py0) + static_cast<float>(row)) + 0.5f,
                       static_cast<std::int32_t>(first - cx.queue.color_base), kept);
@@ -865,15 +864,19 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     cx.tile_z_loose |= zmn > old_lo || zmx < old_hi;
   }
 
+  // Whether triangle t's draw blends its colour over the stored one.
+  static bool blends(const TileFrame& f, const front::TriangleSetup& t) {
+    return f.states[t.draw()].blend == BlendMode::kSourceOver;
+  }
+
   // Colours a block of a shaded or blending draw where its samples passed (shade/shade_simd.hpp).
   static void color_generic(Context& cx, const front::TriangleSetup& t, int blk, int px0, int py0,
                             std::uint64_t* passed) {
     const TileFrame& f = cx.f;
     const int S = f.samples;
     std::uint32_t* cblk = cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
-    Sh::color_block(cx.ln, cx.queue, t, f.shading[t.draw()],
-                    f.states[t.draw()].blend == BlendMode::kSourceOver, f.ssaa, S, cblk, px0, py0,
-                    passed);
+    Sh::color_block(cx.ln, cx.queue, t, f.shading[t.draw()], blends(f, t), f.ssaa, S, cblk, px0,
+                    py0, passed);
   }
 
   // Coverage of one sample of a block from the edge values b0..b2 at that sample of its first
