@@ -8,7 +8,7 @@ namespace mosaic::simd::MOSAIC_ISA {
 
 void front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin, std::uint32_t end,
                int width, int height, std::vector<front::TriangleSetup>& out,
-               front::FrontStats& stats, std::vector<front::Plane>* planes, int samples,
+               front::FrontStats& stats, front::PlaneArray* planes, int samples,
                const front::VertexCache* vertices) {
   front::FrontEndSimd<Arch>::run(draw, draw_index, begin, end, width, height, out, stats, planes,
                                  samples, vertices);

@@ -65,7 +65,7 @@ void expect_same_setup(const front::TriangleSetup& a, const front::TriangleSetup
 
 struct Output {
   std::vector<front::TriangleSetup> tris;
-  std::vector<front::Plane> planes;
+  front::PlaneArray planes;
   front::FrontStats stats;
 };
 
@@ -74,7 +74,7 @@ struct Output {
 Output run(front::FrontEnd fe, const Draw& d, std::uint32_t begin, std::uint32_t end,
            bool with_planes, int samples, const front::VertexCache* cache = nullptr) {
   Output o;
-  o.planes.resize(3);
+  o.planes.resize(3, front::Plane{});
   fe(d, 7, begin, end, kWidth, kHeight, o.tris, o.stats, with_planes ? &o.planes : nullptr, samples,
      cache);
   return o;

@@ -302,11 +302,11 @@ FrameMemory frame_memory(std::span<const front::VertexCache> caches,
 
 /// Gives `v` room for `n` elements with its pages written (a reserve() alone leaves them to
 /// fault in during the first frame), and leaves it empty.
-template <class T>
-void touch_capacity(std::vector<T>& v, std::size_t n) {
+template <class T, class Alloc>
+void touch_capacity(std::vector<T, Alloc>& v, std::size_t n) {
   if (v.capacity() < n) {
     v.clear();
-    v.resize(n);
+    v.resize(n, T{});  // written: a resize() of the plane array leaves its elements unset
   }
   v.clear();
 }

@@ -87,7 +87,7 @@ struct Chunk {
   /// Per piece, in order; empty when the chunk's triangles come from draws in any order (the
   /// painter's), whose runs then name each triangle's draw (raster::BinRun::kMixedDraws).
   std::vector<DrawStart> draw_starts;
-  std::vector<front::Plane> planes;    ///< out-of-line planes: interpolated colours, varyings
+  front::PlaneArray planes;            ///< out-of-line planes: interpolated colours, varyings
   std::vector<std::uint32_t> tiles;    ///< the tiles with triangles, in the order first reached
   std::vector<std::uint32_t> starts;   ///< bin j, of tiles[j], is [starts[j], starts[j + 1])
   std::vector<std::uint32_t> indices;  ///< triangle indices into `tris`, grouped by bin

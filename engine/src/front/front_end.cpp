@@ -55,7 +55,7 @@ bool divide(const ClipVertex& c, ScreenVertex& s) {
 
 TriangleFrontEnd::TriangleFrontEnd(const Draw& draw, std::uint32_t draw_index, int width,
                                    int height, std::vector<TriangleSetup>& out, FrontStats& stats,
-                                   std::vector<Plane>* planes, int samples)
+                                   PlaneArray* planes, int samples)
     : area(DrawArea::of(draw.state, width, height)),
       fetch(draw, area.width, area.height),
       shader(static_cast<bool>(draw.shader)),
@@ -171,7 +171,7 @@ void TriangleFrontEnd::run(std::uint32_t t) {
 
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                   FrontStats& stats, std::vector<Plane>* planes, int samples,
+                   FrontStats& stats, PlaneArray* planes, int samples,
                    const VertexCache* /*vertices*/) {
   if (!draw.indices.empty()) {
     const std::size_t vertices = vertex_count(draw);

@@ -52,13 +52,13 @@ std::uint32_t triangle_count(const Draw& draw);
 /// A range that holds an index out of range sets nothing up and sets stats.index_out_of_range.
 void run_front_end(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                    std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                   FrontStats& stats, std::vector<Plane>* planes = nullptr, int samples = 0,
+                   FrontStats& stats, PlaneArray* planes = nullptr, int samples = 0,
                    const VertexCache* vertices = nullptr);
 
 /// A front end with run_front_end()'s signature: the scalar one or a SIMD one (isa_dispatch.hpp).
 using FrontEndFn = void(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                         std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                        FrontStats& stats, std::vector<Plane>* planes, int samples,
+                        FrontStats& stats, PlaneArray* planes, int samples,
                         const VertexCache* vertices);
 using FrontEnd = FrontEndFn*;
 
@@ -122,7 +122,7 @@ class TriangleFrontEnd {
  public:
   /// For a width × height target; the draw's viewport and scissor give its DrawArea.
   TriangleFrontEnd(const Draw& draw, std::uint32_t draw_index, int width, int height,
-                   std::vector<TriangleSetup>& out, FrontStats& stats, std::vector<Plane>* planes,
+                   std::vector<TriangleSetup>& out, FrontStats& stats, PlaneArray* planes,
                    int samples = 0);
 
   /// Runs triangle `t` of the draw: appends its setups to `out`, counts it in `stats`.
@@ -143,7 +143,7 @@ class TriangleFrontEnd {
   std::uint32_t draw_index_;
   std::vector<TriangleSetup>& out_;
   FrontStats& stats_;
-  std::vector<Plane>* planes_;
+  PlaneArray* planes_;
   // Varyings of the submitted corners, and of the clipped polygon's vertices (weighted sums of
   // the corners' by their barycentric weights).
   std::array<std::array<double, kMaxVaryings>, 3> corner_attr_;

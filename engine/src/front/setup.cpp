@@ -60,7 +60,7 @@ Rgba8 shade(const TriangleSetup& t, const Plane* planes, float x, float y) {
 
 SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state,
                            const DrawArea& area, bool per_vertex_color, Rgba8 flat_color,
-                           TriangleSetup& out, std::vector<Plane>* planes, PlaneBasis* basis,
+                           TriangleSetup& out, PlaneArray* planes, PlaneBasis* basis,
                            const SampleSpots* spots) {
   std::array<FixedPoint, 3> p;
   for (int i = 0; i < 3; ++i) p[i] = {snap(v[i].x), snap(v[i].y)};
@@ -155,7 +155,7 @@ SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState
 
 void setup_varyings(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basis,
                     const std::array<const double*, 3>& values, int count, TriangleSetup& out,
-                    std::vector<Plane>& planes) {
+                    PlaneArray& planes) {
   if (count == 0) {
     out.planes_base = kNoPlanes;
     return;

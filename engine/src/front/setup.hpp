@@ -12,7 +12,10 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "front/clip.hpp"
@@ -42,10 +45,36 @@ struct EdgeFunction {
 
 /// A linear function of the pixel position, anchored at the snapped first vertex (x0, y0):
 /// value(x, y) = (base + ddx * (x - x0)) + ddy * (y - y0), evaluated in float32 in exactly this
-/// order by every rasterizer (the build disables FMA contraction).
+/// order by every rasterizer (the build disables FMA contraction). Trivial, so that arrays of
+/// planes copy and grow as plain memory: `Plane{}` is zero, a `Plane p;` is unset.
 struct Plane {
-  float base = 0, ddx = 0, ddy = 0;
+  float base, ddx, ddy;
 };
+
+/// An allocator whose resize() leaves the new elements of a trivial type unset, for arrays that
+/// the caller fills at once after growing them.
+template <class T>
+struct GrowUnset : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = GrowUnset<U>;
+  };
+  GrowUnset() = default;
+  template <class U>
+  GrowUnset(const GrowUnset<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+/// A chunk's out-of-line planes (see TriangleSetup): the front ends grow it by a triangle's
+/// planes and then store them, without zeroing them first.
+using PlaneArray = std::vector<Plane, GrowUnset<Plane>>;
 
 /// No coefficient is infinite or NaN: a plane that fails is replaced by a constant.
 inline bool is_finite(const Plane& p) {
@@ -73,7 +102,7 @@ inline constexpr std::uint32_t kColorPlanes = static_cast<std::uint32_t>(1 + kCo
 /// kernels prefetch exactly those), aligned so that they never straddle a third. The front end
 /// writes one per triangle, so every byte here is written once and read back once per frame;
 /// what only some triangles need lives out of line in the chunk's plane array (bin::Chunk::planes,
-/// a std::vector<Plane>), from index planes_base:
+/// a PlaneArray), from index planes_base:
 /// - interpolated vertex colour (not a shader draw): planes[planes_base] is q, 1/w normalised
 ///   so that its largest vertex value is 1, and planes[planes_base + 1 + ch] is colour·q of
 ///   channel ch (kColorPlanes in all); colour = (colour·q) / q;
@@ -84,7 +113,7 @@ struct alignas(64) TriangleSetup {
   std::array<EdgeFunction, 3> edge;
   float x0 = 0, y0 = 0;                    ///< plane anchor: the snapped first vertex, in pixels
   int bx0 = 0, by0 = 0, bx1 = 0, by1 = 0;  ///< pixels [bx0, bx1) × [by0, by1) that may be covered
-  Plane z;
+  Plane z{};
   float z_min = 0, z_max = 0;  ///< depth is clamped to the vertices' range
   Rgba8 color;                 ///< the colour when planes_base is kNoPlanes
   /// Bits 0..30: the index of the draw, for its state; bit 31: the triangle is a back face (its
@@ -108,8 +137,8 @@ inline bool is_flat(const TriangleSetup& t) { return t.planes_base == kNoPlanes;
 
 /// keep_color_planes()'s append alone, for planes known to be finite (the SIMD front end tests
 /// them in lanes).
-inline void append_color_planes(const std::array<Plane, kColorPlanes>& p,
-                                std::vector<Plane>& planes, TriangleSetup& out) {
+inline void append_color_planes(const std::array<Plane, kColorPlanes>& p, PlaneArray& planes,
+                                TriangleSetup& out) {
   out.planes_base = static_cast<std::uint32_t>(planes.size());
   planes.insert(planes.end(), p.begin(), p.end());
 }
@@ -118,7 +147,7 @@ inline void append_color_planes(const std::array<Plane, kColorPlanes>& p,
 /// and points out.planes_base at them, unless one overflows float (a sub-1/65536 px² sliver with
 /// extreme colour slopes): that triangle stays flat, and its caller gives it its first vertex's
 /// colour. Shared by the scalar and SIMD front ends, which must agree bit for bit.
-inline void keep_color_planes(const std::array<Plane, kColorPlanes>& p, std::vector<Plane>& planes,
+inline void keep_color_planes(const std::array<Plane, kColorPlanes>& p, PlaneArray& planes,
                               TriangleSetup& out) {
   for (const Plane& pl : p)
     if (!is_finite(pl)) return;
@@ -203,7 +232,7 @@ struct DrawArea;  // front/draw_area.hpp
 /// before its planes are built.
 SetupReject setup_triangle(const std::array<ScreenVertex, 3>& v, const DrawState& state,
                            const DrawArea& area, bool per_vertex_color, Rgba8 flat_color,
-                           TriangleSetup& out, std::vector<Plane>* planes = nullptr,
+                           TriangleSetup& out, PlaneArray* planes = nullptr,
                            PlaneBasis* basis = nullptr, const SampleSpots* spots = nullptr);
 
 /// The painter's algorithm's key of a set-up triangle: its mean vertex depth, summed in the
@@ -219,6 +248,6 @@ inline float sort_depth(const std::array<ScreenVertex, 3>& v, const PlaneBasis& 
 /// of the first corner.
 void setup_varyings(const std::array<ScreenVertex, 3>& v, const PlaneBasis& basis,
                     const std::array<const double*, 3>& values, int count, TriangleSetup& out,
-                    std::vector<Plane>& planes);
+                    PlaneArray& planes);
 
 }  // namespace mosaic::front

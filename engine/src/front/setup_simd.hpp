@@ -760,8 +760,8 @@ struct FrontEndSimd {
   /// setup_triangle() and TriangleFrontEnd::run() would write it: its colour, appending its
   /// colour planes, if it interpolates, to `planes`, its draw word, and the viewport's move.
   static void finish(const Results& r, const Vertices& v, int l, const DrawArea& area,
-                     bool per_vertex, Rgba8 flat, std::uint32_t draw_index,
-                     std::vector<Plane>* planes, TriangleSetup& ts) {
+                     bool per_vertex, Rgba8 flat, std::uint32_t draw_index, PlaneArray* planes,
+                     TriangleSetup& ts) {
     ts.color = flat;
     if (per_vertex) {
       // (A lane whose planes are not all finite stays flat, as keep_color_planes() leaves it.)
@@ -785,11 +785,11 @@ struct FrontEndSimd {
 
   /// Appends lane l's varying planes to `planes` as setup_varyings() does: q and each varying
   /// times q, or, if one of them overflows float, constant planes of corner 0's values.
-  static void store_varyings(const Results& r, int l, int nvary, std::vector<Plane>& planes,
+  static void store_varyings(const Results& r, int l, int nvary, PlaneArray& planes,
                              TriangleSetup& ts) {
     ts.planes_base = static_cast<std::uint32_t>(planes.size());
-    // One resize for the triangle's planes, then plain stores: a push_back per plane cost more
-    // than the planes' conversion.
+    // One resize for the triangle's planes (PlaneArray leaves them unset), then plain stores: a
+    // push_back per plane cost more than the planes' conversion.
     planes.resize(planes.size() + 1 + static_cast<std::size_t>(nvary));
     Plane* p = planes.data() + ts.planes_base;
     if ((r.planes_finite >> l) & 1u) {  // is_finite() of each, in lanes (varying_planes())
@@ -920,8 +920,7 @@ struct FrontEndSimd {
   /// run_front_end() with the common case in lanes.
   static void run(const Draw& draw, std::uint32_t draw_index, std::uint32_t begin,
                   std::uint32_t end, int width, int height, std::vector<TriangleSetup>& out,
-                  FrontStats& stats, std::vector<Plane>* planes, int samples,
-                  const VertexCache* cache) {
+                  FrontStats& stats, PlaneArray* planes, int samples, const VertexCache* cache) {
     if (!draw.indices.empty() && !indices_in_range(draw, begin, end)) {
       stats.index_out_of_range = true;
       return;

@@ -16,7 +16,7 @@ namespace mosaic::reference {
 
 std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int height,
                                               int samples, FrameStats& stats,
-                                              std::vector<front::Plane>* planes) {
+                                              front::PlaneArray* planes) {
   std::vector<front::TriangleSetup> tris;
   front::FrontStats fs;
   std::vector<float> keys;  // the painter's sort keys, in tris' order
@@ -52,7 +52,7 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
   const int W = target.width(), H = target.height(), S = target.samples();
   const auto pattern = raster::sample_pattern(S);
 
-  std::vector<front::Plane> planes;
+  front::PlaneArray planes;
   std::vector<front::TriangleSetup> tris = setup_frame(frame, W, H, S, stats, &planes);
   std::vector<shade::DrawShading> shading;
   shade::frame_shading(frame.draws, shading);

@@ -29,6 +29,6 @@ FrameStats render(const Frame& frame, RenderTarget& target, SampleBuffers* sampl
 /// triangles whose box holds no sample position (0: none culled).
 std::vector<front::TriangleSetup> setup_frame(const Frame& frame, int width, int height,
                                               int samples, FrameStats& stats,
-                                              std::vector<front::Plane>* planes = nullptr);
+                                              front::PlaneArray* planes = nullptr);
 
 }  // namespace mosaic::reference
