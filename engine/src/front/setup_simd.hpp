@@ -771,8 +771,11 @@ struct FrontEndSimd {
         for (int ch = 0; ch < kColorChannels; ++ch) p[1 + ch] = plane(r.c_q[ch], l);
         append_color_planes(p, *planes, ts);
       }
-      if (is_flat(ts)) {
-        // Corner 0 is never swapped by the orientation.
+      if (is_flat(ts) && v.cached) {
+        // Corner 0's bytes as the vertex stage packed them (never swapped by the orientation):
+        // to_unorm8() of a byte's value is the byte.
+        ts.color = std::bit_cast<Rgba8>(static_cast<std::uint32_t>(v.rgba[0][l]));
+      } else if (is_flat(ts)) {
         std::uint8_t c[kColorChannels];
         for (int ch = 0; ch < kColorChannels; ++ch)
           c[ch] = to_unorm8(static_cast<float>(v.color[0][ch][l]));
