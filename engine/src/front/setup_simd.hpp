@@ -30,6 +30,7 @@
 #include <cstring>
 #include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 #include <xsimd/xsimd.hpp>
 
@@ -107,6 +108,11 @@ struct FrontEndSimd {
   };
 
   static D load(const double* p) { return D::load_aligned(p); }
+  /// The lanes f(0) .. f(N - 1), put together in registers.
+  template <class Fn, std::size_t... l>
+  [[gnu::always_inline]] static D lanes_of(Fn f, std::index_sequence<l...>) {
+    return D({f(static_cast<int>(l))...});
+  }
 
   /// std::min({a, b, c}): the first smallest, so a signed zero comes out as the scalar's does.
   static D min3(D a, D b, D c) {
@@ -205,13 +211,14 @@ struct FrontEndSimd {
     const D qn[3] = {load(r.qn[0]), load(r.qn[1]), load(r.qn[2])};
     for (int j = 0; j < nvary; ++j) {
       const float* column = draw.attributes.data() + draw.varyings[j];
-      // Read lane by lane from the corners' vertex numbers in memory: xsimd's gather of floats
-      // into doubles extracts each index through a store of the whole vector.
-      alignas(64) double corner[3][N];
-      for (int k = 0; k < 3; ++k)
-        for (int l = 0; l < N; ++l)
-          corner[k][l] = static_cast<double>(column[v.vertex[k][l] * stride]);
-      const D a[3] = {load(corner[0]), load(corner[1]), load(corner[2])};
+      // Read lane by lane from the corners' vertex numbers in memory and put together in
+      // registers: xsimd's gather of floats into doubles extracts each index through a store of
+      // the whole vector, and a vector load of lanes just stored one by one waits for them all.
+      const auto corner = [&](int k) {
+        return lanes_of([&](int l) { return static_cast<double>(column[v.vertex[k][l] * stride]); },
+                        std::make_index_sequence<N>{});
+      };
+      const D a[3] = {corner(0), corner(1), corner(2)};
       const auto o = oriented(ccw, a);
       for (int k = 0; k < 3; ++k) o[k].store_aligned(r.vary[k][j]);
       finite =
