@@ -22,7 +22,8 @@
 // A triangle whose box is a few pixels of one block (setup shrinks a tiny triangle's box to its
 // covered samples) skips the walker: pixel_impl() makes the same tests, writes and counts in
 // scalar code. A box within 2×2 blocks takes the small-box walker (Walk), which evaluates the
-// coverage of only the block rows its box meets.
+// coverage of only the block rows its box meets; at one sample a depth-only draw takes a lean
+// walker of its own for such boxes instead (small_box_1x()).
 // A depth-only draw leaves a block that one triangle covers and wins whole as that
 // triangle's depth plane (TileScratch::plane), whose samples are written when something reads
 // them: under overdraw, once instead of once per triangle.
@@ -262,6 +263,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     // A shader that discards writes depth after shading, which only the block walker does.
     if constexpr (K::kLateZ)
       return {&triangle_impl<K>, &triangle_impl<K, kSmall>, &triangle_impl<K, kSmall>};
+    else if constexpr (K::kOneSample && K::kColor == ColorMode::kNone)
+      return {kUsesPlanes<K> ? &depth_only_walker<K, Walk::kBlocks> : &triangle_impl<K>,
+              &pixel_impl<K>, &depth_only_small_1x<K>};
     else if constexpr (kUsesPlanes<K>)
       return {&depth_only_walker<K, Walk::kBlocks>, &pixel_impl<K>, &depth_only_walker<K, kSmall>};
     else
@@ -307,6 +311,126 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   static void depth_only_walker(Context& cx, const front::TriangleSetup& t) {
     if (cx.planes || may_cover_a_block(t)) return triangle_impl<K, Walk::kPlanes>(cx, t);
     triangle_impl<K, kPlain>(cx, t);
+  }
+
+  // The small-box walker of a depth-only draw at one sample (the occluder pass), for a box
+  // within 2×2 blocks: per block the block walker's corner test, hierarchical z, coverage,
+  // depth test, counters and bounds, without its machinery for larger boxes (row rejects,
+  // per-block depth ranges), samples or colour. A draw that writes depth takes the walker with
+  // planes where it may meet them.
+  template <class K>
+  static void depth_only_small_1x(Context& cx, const front::TriangleSetup& t) {
+    if constexpr (kUsesPlanes<K>) {
+      if (cx.planes || may_cover_a_block(t)) return triangle_impl<K, Walk::kPlanes>(cx, t);
+    }
+    small_box_1x<K>(cx, t);
+  }
+  template <class K>
+  [[gnu::noinline]] static void small_box_1x(Context& cx, const front::TriangleSetup& t) {
+    static_assert(K::kOneSample && K::kColor == ColorMode::kNone);
+    constexpr DepthTest kTest = K::kTest;
+    const TileRect& tile = cx.tile;
+    const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
+    const int y_lo = std::max(t.by0, tile.y0), y_hi = std::min(t.by1, tile.y0 + tile.height);
+    if (x_lo >= x_hi || y_lo >= y_hi) return;
+    const int bxb = (x_lo - tile.x0) / kBlockSize,
+              bxe = (x_hi - tile.x0 + kBlockSize - 1) / kBlockSize;
+    const int byb = (y_lo - tile.y0) / kBlockSize,
+              bye = (y_hi - tile.y0 + kBlockSize - 1) / kBlockSize;
+    // The box's depth range bounds each of its blocks' (as the block walker's small box).
+    float rlo = t.z_min, rhi = t.z_max;
+    if constexpr (kTest != DepthTest::kAlways) {
+      const bool whole = x_lo == t.bx0 && x_hi == t.bx1 && y_lo == t.by0 && y_hi == t.by1;
+      if (!whole)
+        std::tie(rlo, rhi) =
+            BlockDepthRange(t).over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
+      bool hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
+      if (!hidden && cx.tile_z_loose) {
+        refresh_tile_z(cx);
+        hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
+      }
+      if (hidden) {
+        const typename Context::BlockRect& c = cx.cover_blocks;
+        const int w = std::min(bxe, c.x1) - std::max(bxb, c.x0);
+        const int h = std::min(bye, c.y1) - std::max(byb, c.y0);
+        if (w > 0 && h > 0) cx.st.blocks_hiz_rejected += static_cast<std::uint64_t>(w) * h;
+        return;
+      }
+    }
+    std::int64_t a[3], b[3], elo[3], ehi[3];
+    I eoff[3][kPeriod], down[3];
+    std::uint32_t centre[3];
+    for (int e = 0; e < 3; ++e) {
+      a[e] = t.edge[e].a;
+      b[e] = t.edge[e].b;
+      const std::int64_t da = a[e] * kBlockSpan, db = b[e] * kBlockSpan;
+      elo[e] = std::min<std::int64_t>(0, da) + std::min<std::int64_t>(0, db);
+      ehi[e] = std::max<std::int64_t>(0, da) + std::max<std::int64_t>(0, db);
+      const I as(static_cast<std::int32_t>(a[e] * kSubpixel));
+      const I bs(static_cast<std::int32_t>(b[e] * kSubpixel));
+      for (int v = 0; v < kPeriod; ++v) eoff[e][v] = as * cx.col[v] + bs * cx.row[v];
+      down[e] = I(static_cast<std::int32_t>(b[e] * kSubpixel * kPeriodRows));
+      centre[e] = static_cast<std::uint32_t>(kHalf * a[e] + kHalf * b[e]);
+    }
+    const DepthLanes depth(t.z, t.x0, t.y0, t.z_min, t.z_max);
+    for (int by = byb; by < bye; ++by) {
+      const int py0 = tile.y0 + by * kBlockSize;
+      const F fy_row = F(static_cast<float>(py0));
+      for (int bx = bxb; bx < bxe; ++bx) {
+        const int blk = by * cx.side + bx;
+        const int px0 = tile.x0 + bx * kBlockSize;
+        std::int64_t eorg[3];
+        bool outside = false, fits32 = true;
+        for (int e = 0; e < 3; ++e) {
+          eorg[e] = a[e] * (std::int64_t{px0} * kSubpixel) +
+                    b[e] * (std::int64_t{py0} * kSubpixel) + t.edge[e].c;
+          const std::int64_t lo = eorg[e] + elo[e], hi = eorg[e] + ehi[e];
+          outside |= hi < 0;
+          fits32 &= lo >= std::numeric_limits<std::int32_t>::min() &&
+                    hi <= std::numeric_limits<std::int32_t>::max();
+        }
+        const std::uint64_t inside = cx.cover[blk];
+        if (outside || !inside) continue;
+        const int hz = hiz_classify<kTest>(rlo, rhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
+        if (hz < 0) {
+          ++cx.st.blocks_hiz_rejected;
+          continue;
+        }
+        const bool test = hz == 0;
+        if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
+        const std::uint32_t keep = test ? 0u : kLaneBits;
+        // Coverage from int32 edge values at the first pixel centre (exact: fits32), or in
+        // double lanes for a block whose values could leave int32 (rare).
+        std::uint64_t cov = 0;
+        if (fits32) {
+          cov = coverage32(
+              I(static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[0]) + centre[0])),
+              I(static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[1]) + centre[1])),
+              I(static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[2]) + centre[2])), eoff,
+              down);
+        } else {
+          D doff[3][kDOffsets];
+          build_doff(a, b, cx, 1, doff);
+          coverage_f64(eorg, b, 1, doff, &cov);
+        }
+        cov &= inside;
+        float* dblk = cx.sc.depth.get() + static_cast<std::size_t>(blk) * kBlockPixels;
+        const F fx_blk = F(static_cast<float>(px0));
+        std::uint64_t written = 0;
+        const std::uint64_t covered = static_cast<std::uint64_t>(std::popcount(cov));
+        for (std::uint32_t act = vectors_with_lanes(cov); act; act &= act - 1) {
+          const std::size_t k = static_cast<std::size_t>(std::countr_zero(act));
+          const F z = depth.at(fx_blk + cx.sx[k], fy_row + cx.sy[k]);
+          const std::uint32_t pass =
+              test_and_write_depth<K>(dblk + k * L, z, lanes_of(&cov, k), keep);
+          written += static_cast<std::uint64_t>(std::popcount(pass));
+        }
+        cx.st.samples_tested += covered;
+        cx.st.samples_written += written;
+        if (K::kWrite && written)
+          keep_block_bounds<kTest>(cx, blk, 1, covered, written, rlo, rhi, true);
+      }
+    }
   }
 
   // The block walker, in one of its forms (Walk).
