@@ -22,8 +22,8 @@
 // A triangle whose box is a few pixels of one block (setup shrinks a tiny triangle's box to its
 // covered samples) skips the walker: pixel_impl() makes the same tests, writes and counts in
 // scalar code. A box within 2×2 blocks takes the small-box walker (Walk), which evaluates the
-// coverage of only the block rows its box meets; at one sample a depth-only draw takes a lean
-// walker of its own for such boxes instead (small_box_1x()).
+// coverage of only the block rows its box meets; at one sample, depth-only and flat or
+// interpolated colour draws take a lean walker of their own for such boxes (small_box_1x()).
 // A depth-only draw leaves a block that one triangle covers and wins whole as that
 // triangle's depth plane (TileScratch::plane), whose samples are written when something reads
 // them: under overdraw, once instead of once per triangle.
@@ -266,6 +266,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     else if constexpr (K::kOneSample && K::kColor == ColorMode::kNone)
       return {kUsesPlanes<K> ? &depth_only_walker<K, Walk::kBlocks> : &triangle_impl<K>,
               &pixel_impl<K>, &depth_only_small_1x<K>};
+    else if constexpr (K::kOneSample && !K::kSsaa && !K::kGeneric && K::kTest == DepthTest::kLess &&
+                       K::kWrite)  // the default depth state
+      return {&triangle_impl<K>, &pixel_impl<K>, &small_box_1x<K>};
     else if constexpr (kUsesPlanes<K>)
       return {&depth_only_walker<K, Walk::kBlocks>, &pixel_impl<K>, &depth_only_walker<K, kSmall>};
     else
@@ -313,11 +316,11 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     triangle_impl<K, kPlain>(cx, t);
   }
 
-  // The small-box walker of a depth-only draw at one sample (the occluder pass), for a box
-  // within 2×2 blocks: per block the block walker's corner test, hierarchical z, coverage,
-  // depth test, counters and bounds, without its machinery for larger boxes (row rejects,
-  // per-block depth ranges), samples or colour. A draw that writes depth takes the walker with
-  // planes where it may meet them.
+  // The small-box walker at one sample (depth-only draws, the occluder pass, and flat and
+  // interpolated colour), for a box within 2×2 blocks: per block the block walker's corner test,
+  // hierarchical z, coverage, depth test, colour, counters and bounds, without its machinery for
+  // larger boxes (row rejects, per-block depth ranges) and for several samples. A depth-only
+  // draw that writes depth takes the walker with planes where it may meet them.
   template <class K>
   static void depth_only_small_1x(Context& cx, const front::TriangleSetup& t) {
     if constexpr (kUsesPlanes<K>) {
@@ -327,7 +330,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   }
   template <class K>
   [[gnu::noinline]] static void small_box_1x(Context& cx, const front::TriangleSetup& t) {
-    static_assert(K::kOneSample && K::kColor == ColorMode::kNone);
+    static_assert(K::kOneSample && !K::kSsaa && !K::kGeneric);
+    constexpr bool kFlat = K::kColor == ColorMode::kFlat;
+    constexpr bool kInterpolated = K::kColor == ColorMode::kInterpolated;
     constexpr DepthTest kTest = K::kTest;
     const TileRect& tile = cx.tile;
     const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
@@ -373,6 +378,11 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       centre[e] = static_cast<std::uint32_t>(kHalf * a[e] + kHalf * b[e]);
     }
     const DepthLanes depth(t.z, t.x0, t.y0, t.z_min, t.z_max);
+    // The colour: the triangle's, or its planes copied out of the chunk's array (as the walker).
+    [[maybe_unused]] const I flat_color(Sh::bits_of(t.color));
+    [[maybe_unused]] std::array<front::Plane, front::kColorPlanes> color_planes;
+    if constexpr (kInterpolated)
+      std::copy_n(cx.ln.planes + t.planes_base, front::kColorPlanes, color_planes.begin());
     for (int by = byb; by < bye; ++by) {
       const int py0 = tile.y0 + by * kBlockSize;
       const F fy_row = F(static_cast<float>(py0));
@@ -424,6 +434,17 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           const std::uint32_t pass =
               test_and_write_depth<K>(dblk + k * L, z, lanes_of(&cov, k), keep);
           written += static_cast<std::uint64_t>(std::popcount(pass));
+          if constexpr (kFlat || kInterpolated) {
+            if (kInterpolated && !pass) continue;
+            // At one sample a lane is a pixel: its colour at the pixel centre (write_color()).
+            I color = flat_color;
+            if constexpr (kInterpolated)
+              color = Sh::interpolate(t, color_planes.data(), fx_blk + cx.ln.colf[k] + F(0.5f),
+                                      fy_row + cx.ln.rowf[k] + F(0.5f));
+            std::int32_t* cp = reinterpret_cast<std::int32_t*>(
+                cx.sc.color.get() + static_cast<std::size_t>(blk) * kBlockPixels + k * L);
+            xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
+          }
         }
         cx.st.samples_tested += covered;
         cx.st.samples_written += written;
