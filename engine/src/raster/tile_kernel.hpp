@@ -22,8 +22,8 @@
 // A triangle whose box is a few pixels of one block (setup shrinks a tiny triangle's box to its
 // covered samples) skips the walker: pixel_impl() makes the same tests, writes and counts in
 // scalar code. A box within 2×2 blocks takes the small-box walker (Walk), which evaluates the
-// coverage of only the block rows its box meets; at one sample, depth-only and flat or
-// interpolated colour draws take a lean walker of their own for such boxes (small_box_1x()).
+// coverage of only the block rows its box meets; depth-only draws at one sample and flat or
+// interpolated colour draws at 1x and 4x take a lean walker of their own (small_box()).
 // A depth-only draw leaves a block that one triangle covers and wins whole as that
 // triangle's depth plane (TileScratch::plane), whose samples are written when something reads
 // them: under overdraw, once instead of once per triangle.
@@ -257,8 +257,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   }
   template <class K>
   static Kernel kernel() {
-    // The small-box walker where the traits fix a count of several samples (the 4x kernels of
-    // the default depth state): at one sample a block's coverage is a few vectors.
+    // Boxes within 2×2 blocks: small_box() for depth-only draws at one sample and for flat and
+    // interpolated colour in the default depth state at 1x and 4x; the block walker's small-box
+    // form where the traits fix several samples otherwise (shaded draws at 4x).
     constexpr Walk kSmall = K::kSamples > 1 ? Walk::kSmallBox : Walk::kBlocks;
     // A shader that discards writes depth after shading, which only the block walker does.
     if constexpr (K::kLateZ)
@@ -266,9 +267,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     else if constexpr (K::kOneSample && K::kColor == ColorMode::kNone)
       return {kUsesPlanes<K> ? &depth_only_walker<K, Walk::kBlocks> : &triangle_impl<K>,
               &pixel_impl<K>, &depth_only_small_1x<K>};
-    else if constexpr (K::kOneSample && !K::kSsaa && !K::kGeneric && K::kTest == DepthTest::kLess &&
-                       K::kWrite)  // the default depth state
-      return {&triangle_impl<K>, &pixel_impl<K>, &small_box_1x<K>};
+    else if constexpr ((K::kSamples == 1 || K::kSamples == 4) && !K::kSsaa && !K::kGeneric &&
+                       K::kTest == DepthTest::kLess && K::kWrite)  // the default depth state
+      return {&triangle_impl<K>, &pixel_impl<K>, &small_box<K>};
     else if constexpr (kUsesPlanes<K>)
       return {&depth_only_walker<K, Walk::kBlocks>, &pixel_impl<K>, &depth_only_walker<K, kSmall>};
     else
@@ -316,24 +317,26 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     triangle_impl<K, kPlain>(cx, t);
   }
 
-  // The small-box walker at one sample (depth-only draws, the occluder pass, and flat and
-  // interpolated colour), for a box within 2×2 blocks: per block the block walker's corner test,
-  // hierarchical z, coverage, depth test, colour, counters and bounds, without its machinery for
-  // larger boxes (row rejects, per-block depth ranges) and for several samples. A depth-only
-  // draw that writes depth takes the walker with planes where it may meet them.
+  // The lean small-box walker, for a box within 2×2 blocks at a fixed 1 or 4 samples (depth-only
+  // draws at one sample, the occluder pass, and flat and interpolated colour): per block the
+  // block walker's corner test, hierarchical z, coverage (of the box's rows only, at 4x),
+  // depth test, colour, counters and bounds, without its machinery for larger boxes (row
+  // rejects, per-block depth ranges), run-time sample counts and shaders. A depth-only draw
+  // that writes depth takes the walker with planes where it may meet them.
   template <class K>
   static void depth_only_small_1x(Context& cx, const front::TriangleSetup& t) {
     if constexpr (kUsesPlanes<K>) {
       if (cx.planes || may_cover_a_block(t)) return triangle_impl<K, Walk::kPlanes>(cx, t);
     }
-    small_box_1x<K>(cx, t);
+    small_box<K>(cx, t);
   }
   template <class K>
-  [[gnu::noinline]] static void small_box_1x(Context& cx, const front::TriangleSetup& t) {
-    static_assert(K::kOneSample && !K::kSsaa && !K::kGeneric);
+  [[gnu::noinline]] static void small_box(Context& cx, const front::TriangleSetup& t) {
+    static_assert((K::kSamples == 1 || K::kSamples == 4) && !K::kSsaa && !K::kGeneric);
+    constexpr int S = K::kSamples;
+    constexpr DepthTest kTest = K::kTest;
     constexpr bool kFlat = K::kColor == ColorMode::kFlat;
     constexpr bool kInterpolated = K::kColor == ColorMode::kInterpolated;
-    constexpr DepthTest kTest = K::kTest;
     const TileRect& tile = cx.tile;
     const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
     const int y_lo = std::max(t.by0, tile.y0), y_hi = std::min(t.by1, tile.y0 + tile.height);
@@ -362,20 +365,29 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         return;
       }
     }
+    // Edge offsets to the lanes, exact modulo 2^32: at one sample a block's vectors by periods
+    // (coverage32), at several a block row's vectors, pixel-major (coverage32_rows).
+    constexpr int kOffsets = S == 1 ? kPeriod : kBlockSize * S / L;
     std::int64_t a[3], b[3], elo[3], ehi[3];
-    I eoff[3][kPeriod], down[3];
-    std::uint32_t centre[3];
+    I eoff[3][S == 1 ? kPeriod : kRowVectors], down[3];
+    std::uint32_t centre[3] = {};
     for (int e = 0; e < 3; ++e) {
       a[e] = t.edge[e].a;
       b[e] = t.edge[e].b;
       const std::int64_t da = a[e] * kBlockSpan, db = b[e] * kBlockSpan;
       elo[e] = std::min<std::int64_t>(0, da) + std::min<std::int64_t>(0, db);
       ehi[e] = std::max<std::int64_t>(0, da) + std::max<std::int64_t>(0, db);
-      const I as(static_cast<std::int32_t>(a[e] * kSubpixel));
-      const I bs(static_cast<std::int32_t>(b[e] * kSubpixel));
-      for (int v = 0; v < kPeriod; ++v) eoff[e][v] = as * cx.col[v] + bs * cx.row[v];
-      down[e] = I(static_cast<std::int32_t>(b[e] * kSubpixel * kPeriodRows));
-      centre[e] = static_cast<std::uint32_t>(kHalf * a[e] + kHalf * b[e]);
+      if constexpr (S == 1) {
+        const I as(static_cast<std::int32_t>(a[e] * kSubpixel));
+        const I bs(static_cast<std::int32_t>(b[e] * kSubpixel));
+        for (int v = 0; v < kOffsets; ++v) eoff[e][v] = as * cx.col[v] + bs * cx.row[v];
+        down[e] = I(static_cast<std::int32_t>(b[e] * kSubpixel * kPeriodRows));
+        centre[e] = static_cast<std::uint32_t>(kHalf * a[e] + kHalf * b[e]);
+      } else {
+        const I as(static_cast<std::int32_t>(a[e])), bs(static_cast<std::int32_t>(b[e]));
+        for (int j = 0; j < kOffsets; ++j) eoff[e][j] = as * cx.rx[j] + bs * cx.ry[j];
+        down[e] = I(static_cast<std::int32_t>(b[e] * kSubpixel));
+      }
     }
     const DepthLanes depth(t.z, t.x0, t.y0, t.z_min, t.z_max);
     // The colour: the triangle's, or its planes copied out of the chunk's array (as the walker).
@@ -386,6 +398,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     for (int by = byb; by < bye; ++by) {
       const int py0 = tile.y0 + by * kBlockSize;
       const F fy_row = F(static_cast<float>(py0));
+      // The block rows the box meets (coverage32_rows evaluates those only).
+      [[maybe_unused]] const BoxRows rows{std::max(y_lo - py0, 0),
+                                          std::min(y_hi - py0, kBlockSize)};
       for (int bx = bxb; bx < bxe; ++bx) {
         const int blk = by * cx.side + bx;
         const int px0 = tile.x0 + bx * kBlockSize;
@@ -409,47 +424,69 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         const bool test = hz == 0;
         if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
         const std::uint32_t keep = test ? 0u : kLaneBits;
-        // Coverage from int32 edge values at the first pixel centre (exact: fits32), or in
-        // double lanes for a block whose values could leave int32 (rare).
-        std::uint64_t cov = 0;
+        // Coverage from int32 edge values (exact: fits32), or in double lanes for a block whose
+        // values could leave int32 (rare); then the pixels inside the image and clip rectangle.
+        std::uint64_t cov[S];
         if (fits32) {
-          cov = coverage32(
-              I(static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[0]) + centre[0])),
-              I(static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[1]) + centre[1])),
-              I(static_cast<std::int32_t>(static_cast<std::uint32_t>(eorg[2]) + centre[2])), eoff,
-              down);
+          const auto c0 = static_cast<std::uint32_t>(eorg[0]),
+                     c1 = static_cast<std::uint32_t>(eorg[1]),
+                     c2 = static_cast<std::uint32_t>(eorg[2]);
+          if constexpr (S == 1)
+            cov[0] = coverage32(I(static_cast<std::int32_t>(c0 + centre[0])),
+                                I(static_cast<std::int32_t>(c1 + centre[1])),
+                                I(static_cast<std::int32_t>(c2 + centre[2])), eoff, down);
+          else
+            coverage32_rows<S>(static_cast<std::int32_t>(c0), static_cast<std::int32_t>(c1),
+                               static_cast<std::int32_t>(c2), eoff, down, S, rows, cov);
         } else {
           D doff[3][kDOffsets];
-          build_doff(a, b, cx, 1, doff);
-          coverage_f64(eorg, b, 1, doff, &cov);
+          build_doff(a, b, cx, S, doff);
+          coverage_f64(eorg, b, S, doff, cov);
         }
-        cov &= inside;
-        float* dblk = cx.sc.depth.get() + static_cast<std::size_t>(blk) * kBlockPixels;
+        if (inside != kWholeBlock) {
+          std::uint64_t in[S];
+          spread_pixels(inside, S, in);
+          for (int w = 0; w < S; ++w) cov[w] &= in[w];
+        }
+        float* dblk = cx.sc.depth.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
+        [[maybe_unused]] std::uint32_t* cblk =
+            cx.sc.color.get() + static_cast<std::size_t>(blk) * S * kBlockPixels;
         const F fx_blk = F(static_cast<float>(px0));
-        std::uint64_t written = 0;
-        const std::uint64_t covered = static_cast<std::uint64_t>(std::popcount(cov));
-        for (std::uint32_t act = vectors_with_lanes(cov); act; act &= act - 1) {
+        [[maybe_unused]] I pixel_color[kVectors];
+        [[maybe_unused]] std::uint32_t shaded = 0;
+        std::uint64_t covered = 0, written = 0;
+        for (int w = 0; w < S; ++w) covered += static_cast<std::uint64_t>(std::popcount(cov[w]));
+        // The vectors holding a covered sample, in the order of the block's sample memory.
+        std::uint64_t act = 0;
+        for (int w = 0; w < S; ++w)
+          act |= std::uint64_t{vectors_with_lanes(cov[w])} << (w * kVectors);
+        for (; act; act &= act - 1) {
           const std::size_t k = static_cast<std::size_t>(std::countr_zero(act));
-          const F z = depth.at(fx_blk + cx.sx[k], fy_row + cx.sy[k]);
+          const F fx = fx_blk + cx.sx[k], fy = fy_row + cx.sy[k];
+          const F z = depth.at(fx, fy);
           const std::uint32_t pass =
-              test_and_write_depth<K>(dblk + k * L, z, lanes_of(&cov, k), keep);
+              test_and_write_depth<K>(dblk + k * L, z, lanes_of(cov, k), keep);
           written += static_cast<std::uint64_t>(std::popcount(pass));
-          if constexpr (kFlat || kInterpolated) {
-            if (kInterpolated && !pass) continue;
-            // At one sample a lane is a pixel: its colour at the pixel centre (write_color()).
+          if constexpr (kInterpolated) {
+            if (!pass) continue;
+          }
+          if constexpr (S == 1 && (kFlat || kInterpolated)) {
+            // A lane is a pixel: its colour at the pixel centre, made for this vector only.
             I color = flat_color;
             if constexpr (kInterpolated)
               color = Sh::interpolate(t, color_planes.data(), fx_blk + cx.ln.colf[k] + F(0.5f),
                                       fy_row + cx.ln.rowf[k] + F(0.5f));
-            std::int32_t* cp = reinterpret_cast<std::int32_t*>(
-                cx.sc.color.get() + static_cast<std::size_t>(blk) * kBlockPixels + k * L);
+            std::int32_t* cp = reinterpret_cast<std::int32_t*>(cblk + k * L);
             xsimd::select(M::ints(pass), color, I::load_aligned(cp)).store_aligned(cp);
+          } else if constexpr (kFlat || kInterpolated) {
+            write_color<K>(cx, t, color_planes.data(), flat_color, fx, fy, fx_blk, fy_row, k, pass,
+                           cblk, S, pixel_color, shaded);
           }
         }
         cx.st.samples_tested += covered;
         cx.st.samples_written += written;
         if (K::kWrite && written)
-          keep_block_bounds<kTest>(cx, blk, 1, covered, written, rlo, rhi, true);
+          keep_block_bounds<kTest>(cx, blk, S, covered, written, rlo, rhi, true);
       }
     }
   }
