@@ -338,13 +338,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     constexpr bool kFlat = K::kColor == ColorMode::kFlat;
     constexpr bool kInterpolated = K::kColor == ColorMode::kInterpolated;
     const TileRect& tile = cx.tile;
-    const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
-    const int y_lo = std::max(t.by0, tile.y0), y_hi = std::min(t.by1, tile.y0 + tile.height);
+    const auto [x_lo, x_hi, y_lo, y_hi, bxb, bxe, byb, bye] = box_in_tile(t, tile);
     if (x_lo >= x_hi || y_lo >= y_hi) return;
-    const int bxb = (x_lo - tile.x0) / kBlockSize,
-              bxe = (x_hi - tile.x0 + kBlockSize - 1) / kBlockSize;
-    const int byb = (y_lo - tile.y0) / kBlockSize,
-              bye = (y_hi - tile.y0 + kBlockSize - 1) / kBlockSize;
     // The box's depth range bounds each of its blocks' (as the block walker's small box).
     float rlo = t.z_min, rhi = t.z_max;
     if constexpr (kTest != DepthTest::kAlways) {
@@ -352,18 +347,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       if (!whole)
         std::tie(rlo, rhi) =
             BlockDepthRange(t).over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
-      bool hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
-      if (!hidden && cx.tile_z_loose) {
-        refresh_tile_z(cx);
-        hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
-      }
-      if (hidden) {
-        const typename Context::BlockRect& c = cx.cover_blocks;
-        const int w = std::min(bxe, c.x1) - std::max(bxb, c.x0);
-        const int h = std::min(bye, c.y1) - std::max(byb, c.y0);
-        if (w > 0 && h > 0) cx.st.blocks_hiz_rejected += static_cast<std::uint64_t>(w) * h;
-        return;
-      }
+      if (hidden_in_tile<kTest>(cx, rlo, rhi, bxb, bxe, byb, bye)) return;
     }
     // Edge offsets to the lanes, exact modulo 2^32: at one sample a block's vectors by periods
     // (coverage32), at several a block row's vectors, pixel-major (coverage32_rows).
@@ -511,13 +495,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     if constexpr (kColor && !kFlat && !kGeneric)
       std::copy_n(cx.ln.planes + t.planes_base, front::kColorPlanes, color_planes.begin());
 
-    const int x_lo = std::max(t.bx0, tile.x0), x_hi = std::min(t.bx1, tile.x0 + tile.width);
-    const int y_lo = std::max(t.by0, tile.y0), y_hi = std::min(t.by1, tile.y0 + tile.height);
+    const auto [x_lo, x_hi, y_lo, y_hi, bxb, bxe, byb, bye] = box_in_tile(t, tile);
     if (x_lo >= x_hi || y_lo >= y_hi) return;
-    const int bxb = (x_lo - tile.x0) / kBlockSize,
-              bxe = (x_hi - tile.x0 + kBlockSize - 1) / kBlockSize;
-    const int byb = (y_lo - tile.y0) / kBlockSize,
-              bye = (y_hi - tile.y0 + kBlockSize - 1) / kBlockSize;
 
     // Hierarchical z over the whole tile first: a triangle hidden behind every block the tile
     // has is dropped without visiting one (the common case under heavy overdraw). The plane's
@@ -535,18 +514,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       if (!(small_box && whole))
         std::tie(rlo, rhi) =
             BlockDepthRange(t).over(x_lo, y_lo, x_hi - x_lo, y_hi - y_lo, t.z_min, t.z_max);
-      bool hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
-      if (!hidden && cx.tile_z_loose) {
-        refresh_tile_z(cx);
-        hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
-      }
-      if (hidden) {
-        const typename Context::BlockRect& c = cx.cover_blocks;
-        const int w = std::min(bxe, c.x1) - std::max(bxb, c.x0);
-        const int h = std::min(bye, c.y1) - std::max(byb, c.y0);
-        if (w > 0 && h > 0) cx.st.blocks_hiz_rejected += static_cast<std::uint64_t>(w) * h;
-        return;
-      }
+      if (hidden_in_tile<kTest>(cx, rlo, rhi, bxb, bxe, byb, bye)) return;
     }
 
     // Per-triangle SIMD constants. Offsets are exact modulo 2^32: the int32 lanes wrap, and
@@ -789,6 +757,46 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           keep_block_bounds<kTest>(cx, blk, S, covered, written, blo, bhi, small_box);
       }
     }
+  }
+
+  /// A triangle's box cut to a tile: pixels [x_lo, x_hi) × [y_lo, y_hi) (empty if either is),
+  /// and the tile's blocks [bxb, bxe) × [byb, bye) that it meets.
+  struct TileBox {
+    int x_lo, x_hi, y_lo, y_hi, bxb, bxe, byb, bye;
+  };
+  [[gnu::always_inline]] static TileBox box_in_tile(const front::TriangleSetup& t,
+                                                    const TileRect& tile) {
+    TileBox b;
+    b.x_lo = std::max(t.bx0, tile.x0);
+    b.x_hi = std::min(t.bx1, tile.x0 + tile.width);
+    b.y_lo = std::max(t.by0, tile.y0);
+    b.y_hi = std::min(t.by1, tile.y0 + tile.height);
+    b.bxb = (b.x_lo - tile.x0) / kBlockSize;
+    b.bxe = (b.x_hi - tile.x0 + kBlockSize - 1) / kBlockSize;
+    b.byb = (b.y_lo - tile.y0) / kBlockSize;
+    b.bye = (b.y_hi - tile.y0 + kBlockSize - 1) / kBlockSize;
+    return b;
+  }
+
+  // Hierarchical z over the whole tile for a triangle whose depth over its box there is in
+  // [rlo, rhi]: whether it is hidden behind every block the tile has, in which case the blocks
+  // [bxb, bxe) × [byb, bye) its box meets are counted rejected from the tile's block rectangles,
+  // without visiting them (the common case under heavy overdraw).
+  template <DepthTest kTest>
+  [[gnu::always_inline]] static bool hidden_in_tile(Context& cx, float rlo, float rhi, int bxb,
+                                                    int bxe, int byb, int bye) {
+    bool hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
+    if (!hidden && cx.tile_z_loose) {
+      refresh_tile_z(cx);
+      hidden = hiz_classify<kTest>(rlo, rhi, cx.tile_zmin, cx.tile_zmax) < 0;
+    }
+    if (hidden) {
+      const typename Context::BlockRect& c = cx.cover_blocks;
+      const int w = std::min(bxe, c.x1) - std::max(bxb, c.x0);
+      const int h = std::min(bye, c.y1) - std::max(byb, c.y0);
+      if (w > 0 && h > 0) cx.st.blocks_hiz_rejected += static_cast<std::uint64_t>(w) * h;
+    }
+    return hidden;
   }
 
   // The depth test and write of block vector dp (the lanes in `lanes` covered, `keep` all lanes
