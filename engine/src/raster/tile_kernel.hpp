@@ -264,14 +264,17 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     // A shader that discards writes depth after shading, which only the block walker does.
     if constexpr (K::kLateZ)
       return {&triangle_impl<K>, &triangle_impl<K, kSmall>, &triangle_impl<K, kSmall>};
+    else if constexpr (K::kOneSample && K::kColor == ColorMode::kNone && kUsesPlanes<K>)
+      return {&depth_only_walker<K, &triangle_impl<K>>, &pixel_impl<K>,
+              &depth_only_walker<K, &small_box<K>>};
     else if constexpr (K::kOneSample && K::kColor == ColorMode::kNone)
-      return {kUsesPlanes<K> ? &depth_only_walker<K, Walk::kBlocks> : &triangle_impl<K>,
-              &pixel_impl<K>, &depth_only_small_1x<K>};
+      return {&triangle_impl<K>, &pixel_impl<K>, &small_box<K>};
     else if constexpr ((K::kSamples == 1 || K::kSamples == 4) && !K::kSsaa && !K::kGeneric &&
                        K::kTest == DepthTest::kLess && K::kWrite)  // the default depth state
       return {&triangle_impl<K>, &pixel_impl<K>, &small_box<K>};
     else if constexpr (kUsesPlanes<K>)
-      return {&depth_only_walker<K, Walk::kBlocks>, &pixel_impl<K>, &depth_only_walker<K, kSmall>};
+      return {&depth_only_walker<K, &triangle_impl<K>>, &pixel_impl<K>,
+              &depth_only_walker<K, &triangle_impl<K, kSmall>>};
     else
       return {&triangle_impl<K>, &pixel_impl<K>, &triangle_impl<K, kSmall>};
   }
@@ -309,12 +312,12 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   // plane before it touches the block and leaves a whole block it covers and wins as a plane: it
   // draws a triangle that may cover whole blocks (may_cover_a_block()), and any in a tile with
   // planes. The plain walker draws the rest, so that a tile of small triangles pays nothing for
-  // planes. (Each walker is a function of its own: the choice inside the plain one cost it
-  // registers.)
-  template <class K, Walk kPlain>
+  // planes: the block walker or small_box(). (Each walker is a function of its own: the choice
+  // inside the plain one cost it registers.)
+  template <class K, TriangleFn kPlain>
   static void depth_only_walker(Context& cx, const front::TriangleSetup& t) {
     if (cx.planes || may_cover_a_block(t)) return triangle_impl<K, Walk::kPlanes>(cx, t);
-    triangle_impl<K, kPlain>(cx, t);
+    kPlain(cx, t);
   }
 
   // The lean small-box walker, for a box within 2×2 blocks at a fixed 1 or 4 samples (depth-only
@@ -322,14 +325,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   // block walker's corner test, hierarchical z, coverage (of the box's rows only, at 4x),
   // depth test, colour, counters and bounds, without its machinery for larger boxes (row
   // rejects, per-block depth ranges), run-time sample counts and shaders. A depth-only draw
-  // that writes depth takes the walker with planes where it may meet them.
-  template <class K>
-  static void depth_only_small_1x(Context& cx, const front::TriangleSetup& t) {
-    if constexpr (kUsesPlanes<K>) {
-      if (cx.planes || may_cover_a_block(t)) return triangle_impl<K, Walk::kPlanes>(cx, t);
-    }
-    small_box<K>(cx, t);
-  }
+  // that writes depth reaches it through depth_only_walker().
   template <class K>
   [[gnu::noinline]] static void small_box(Context& cx, const front::TriangleSetup& t) {
     static_assert((K::kSamples == 1 || K::kSamples == 4) && !K::kSsaa && !K::kGeneric);
