@@ -2,7 +2,8 @@
 //
 // xsimd 8 has no portable batch_bool <-> bit-mask conversion, so this is where the
 // instructions are named: movmskps on SSE and AVX2, k-registers on AVX-512. Lane i is bit i.
-// Also here, for the same reason: rounding double lanes to float precision (to_float()), and
+// Also here, for the same reason: rounding double lanes to float precision (to_float()),
+// converting between float memory and double lanes (widen(), narrow()), and
 // packing the lanes a mask selects into the low lanes, in order (compress()), the box mean of
 // each pixel's RGBA8 samples (means(): the resolve), integer gathers (gather(): xsimd 8's reads
 // a lane at a time) and a pixel's four samples stored under a mask (store_samples4()).
@@ -10,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <xsimd/xsimd.hpp>
 
 namespace mosaic::simd {
@@ -124,6 +126,13 @@ struct Mask<xsimd::avx512bw> {
   static xsimd::batch<double, A> to_float(const xsimd::batch<double, A>& v) {
     return _mm512_cvtps_pd(_mm512_cvtpd_ps(v));
   }
+  /// kDLanes floats from p as double lanes (exact), and double lanes stored to p as floats.
+  static xsimd::batch<double, A> widen(const float* p) {
+    return _mm512_cvtps_pd(_mm256_loadu_ps(p));
+  }
+  static void narrow(float* p, const xsimd::batch<double, A>& v) {
+    _mm256_storeu_ps(p, _mm512_cvtpd_ps(v));
+  }
   /// Lanes whose sign bit is set.
   static std::uint32_t signs(const xsimd::batch<std::int32_t, A>& v) {
     return _mm512_movepi32_mask(v);
@@ -204,6 +213,11 @@ struct Mask<xsimd::avx2> {
   /// Each lane rounded to float and back (see Mask<avx512bw>::to_float).
   static xsimd::batch<double, A> to_float(const xsimd::batch<double, A>& v) {
     return _mm256_cvtps_pd(_mm256_cvtpd_ps(v));
+  }
+  /// See Mask<avx512bw>::widen and narrow.
+  static xsimd::batch<double, A> widen(const float* p) { return _mm256_cvtps_pd(_mm_loadu_ps(p)); }
+  static void narrow(float* p, const xsimd::batch<double, A>& v) {
+    _mm_storeu_ps(p, _mm256_cvtpd_ps(v));
   }
   /// Lanes whose sign bit is set.
   static std::uint32_t signs(const xsimd::batch<std::int32_t, A>& v) {
@@ -296,6 +310,16 @@ struct Mask<xsimd::sse4_1> {
   /// Each lane rounded to float and back (see Mask<avx512bw>::to_float).
   static xsimd::batch<double, A> to_float(const xsimd::batch<double, A>& v) {
     return _mm_cvtps_pd(_mm_cvtpd_ps(v));
+  }
+  /// See Mask<avx512bw>::widen and narrow.
+  static xsimd::batch<double, A> widen(const float* p) {
+    double two;  // two floats' bytes
+    std::memcpy(&two, p, sizeof two);
+    return _mm_cvtps_pd(_mm_castpd_ps(_mm_set_sd(two)));
+  }
+  static void narrow(float* p, const xsimd::batch<double, A>& v) {
+    const double two = _mm_cvtsd_f64(_mm_castps_pd(_mm_cvtpd_ps(v)));
+    std::memcpy(p, &two, sizeof two);
   }
   /// Lanes whose sign bit is set.
   static std::uint32_t signs(const xsimd::batch<std::int32_t, A>& v) {

@@ -7,6 +7,7 @@
 // The helpers are compiled per set by tests/isa/mask_probe.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -33,6 +34,8 @@
   std::uint32_t probe_float_mask(std::uint32_t b);                                          \
   std::uint32_t probe_double_less(const double* a, const double* b);                        \
   void probe_to_float(const double* in, double* out);                                       \
+  void probe_widen(const float* in, double* out);                                           \
+  void probe_narrow(const double* in, float* out);                                          \
   void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out);      \
   void probe_compress_float(const float* in, std::uint32_t b, float* out);                  \
   void probe_means(int S, const std::int32_t* in, std::int32_t* out);                       \
@@ -72,6 +75,8 @@ struct Probe {
   std::uint32_t (*float_mask)(std::uint32_t);
   std::uint32_t (*double_less)(const double*, const double*);
   void (*to_float)(const double*, double*);
+  void (*widen)(const float*, double*);
+  void (*narrow)(const double*, float*);
   void (*compress_int)(const std::int32_t*, std::uint32_t, std::int32_t*);
   void (*compress_float)(const float*, std::uint32_t, float*);
   void (*means)(int, const std::int32_t*, std::int32_t*);
@@ -91,6 +96,7 @@ struct Probe {
         &mosaic::simd::ns::probe_signs_int, &mosaic::simd::ns::probe_signs_double,         \
         &mosaic::simd::ns::probe_int_mask, &mosaic::simd::ns::probe_float_mask,            \
         &mosaic::simd::ns::probe_double_less, &mosaic::simd::ns::probe_to_float,           \
+        &mosaic::simd::ns::probe_widen, &mosaic::simd::ns::probe_narrow,                   \
         &mosaic::simd::ns::probe_compress_int, &mosaic::simd::ns::probe_compress_float,    \
         &mosaic::simd::ns::probe_means, &mosaic::simd::ns::probe_permute,                  \
         &mosaic::simd::ns::probe_gather, &mosaic::simd::ns::probe_store_samples4,          \
@@ -339,6 +345,57 @@ TEST_F(SimdMask, ToFloatRoundsLikeTheScalarConversion) {
 }
 
 // The lanes of b packed into the low lanes, in lane order, for every b.
+// widen() reads exactly the double lanes' count of floats and converts them exactly; narrow()
+// rounds each double lane as static_cast<float> does (ties to even, overflow to infinity, NaN
+// to NaN) and writes exactly that many floats.
+TEST_F(SimdMask, WidenAndNarrowConvertLikeScalarCasts) {
+  constexpr float kGuard = -12345.5f;
+  for (const Probe& p : probes_) {
+    const int DL = p.double_lanes();
+    for (int round = 0; round < 2000; ++round) {
+      float in[kMaxLanes + 1];
+      double din[kMaxLanes];
+      for (int l = 0; l < DL; ++l) {
+        in[l] = std::bit_cast<float>(static_cast<std::uint32_t>(rng_()));
+        const float f = static_cast<float>(rng_() % 100000) * 0.37f;
+        switch (rng_() % 4) {
+          case 0:  // a float plus half its last place: a tie
+            din[l] = static_cast<double>(f) + std::ldexp(1.0, -30);
+            break;
+          case 1:  // past float's range
+            din[l] = -std::ldexp(1.0 + static_cast<double>(rng_() % 1000) / 1000.0, 128);
+            break;
+          case 2:  // below float's smallest normal
+            din[l] = std::ldexp(static_cast<double>(rng_() % 1000000), -150);
+            break;
+          default:
+            din[l] = std::bit_cast<double>(rng_());
+        }
+      }
+      double wide[kMaxLanes];
+      p.widen(in, wide);
+      float out[kMaxLanes + 1];
+      std::fill(std::begin(out), std::end(out), kGuard);
+      p.narrow(din, out);
+      for (int l = 0; l < DL; ++l) {
+        const double want_wide = static_cast<double>(in[l]);
+        if (std::isnan(want_wide))
+          ASSERT_TRUE(std::isnan(wide[l])) << mosaic::to_string(p.isa);
+        else
+          ASSERT_EQ(std::bit_cast<std::uint64_t>(wide[l]), std::bit_cast<std::uint64_t>(want_wide))
+              << mosaic::to_string(p.isa) << " in=" << in[l];
+        const float want = static_cast<float>(din[l]);
+        if (std::isnan(want))
+          ASSERT_TRUE(std::isnan(out[l])) << mosaic::to_string(p.isa);
+        else
+          ASSERT_EQ(std::bit_cast<std::uint32_t>(out[l]), std::bit_cast<std::uint32_t>(want))
+              << mosaic::to_string(p.isa) << " in=" << din[l];
+      }
+      ASSERT_EQ(out[DL], kGuard) << mosaic::to_string(p.isa) << ": narrow wrote past its lanes";
+    }
+  }
+}
+
 TEST_F(SimdMask, CompressPacksTheMaskedLanesInOrder) {
   for (const Probe& p : probes_) {
     const int L = p.lanes();

@@ -45,6 +45,11 @@ void probe_to_float(const double* in, double* out) {
   T::M::to_float(T::D::load_unaligned(in)).store_unaligned(out);
 }
 
+// widen() of the kDLanes floats at `in`, and narrow() of the double lanes at `din` into `out`.
+void probe_widen(const float* in, double* out) { T::M::widen(in).store_unaligned(out); }
+
+void probe_narrow(const double* in, float* out) { T::M::narrow(out, T::D::load_unaligned(in)); }
+
 void probe_compress_int(const std::int32_t* in, std::uint32_t b, std::int32_t* out) {
   T::M::compress(T::I::load_unaligned(in), b).store_unaligned(out);
 }
