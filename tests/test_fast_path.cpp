@@ -695,6 +695,72 @@ TEST(FastPath, HierarchicalZTightensFromManySmallTriangles) {
   }
 }
 
+// Rows of three or more blocks are classified by hierarchical z in SIMD lanes, narrower ones
+// block by block. Large triangles at random depths under heavy overdraw, so that blocks are
+// rejected, accepted and tested, in every depth test: a draw that writes depth, one that only
+// tests it, and a colour draw over them. Tiles of 8 to 128 px make rows of 1 to 16 blocks, the
+// image's last blocks are partial, and a scissor cuts blocks and rows. Image, depth, samples
+// written and hierarchical z as the reference's; its counters the same on every path and thread
+// count.
+TEST(FastPath, HierarchicalZRowsInSimdLanesMatchReference) {
+  const int w = 157, h = 131;
+  const mosaic::DepthTest tests[] = {mosaic::DepthTest::kLess, mosaic::DepthTest::kLessEqual,
+                                     mosaic::DepthTest::kGreater, mosaic::DepthTest::kGreaterEqual,
+                                     mosaic::DepthTest::kAlways};
+  std::uint64_t seed = 700;
+  for (const mosaic::DepthTest test : tests) {
+    const TestScene sc = make_scene(Shape::kLarge, w, h, 60, seed++, true);
+    const bool greater =
+        test == mosaic::DepthTest::kGreater || test == mosaic::DepthTest::kGreaterEqual;
+    std::vector<mosaic::DrawState> states(3);
+    for (mosaic::DrawState& s : states) s.depth_test = test;
+    states[0].color_write = false;
+    states[1].color_write = false;
+    states[1].depth_write = false;
+    std::uint64_t rejected_wide = 0, accepted_wide = 0;
+    for (const bool scissored : {false, true}) {
+      for (mosaic::DrawState& s : states)
+        s.scissor = scissored ? std::optional<mosaic::PixelRect>({13, 9, 121, 97}) : std::nullopt;
+      for (const int samples : {1, 4}) {
+        const MultiResult ref =
+            render_draws(sc, w, h, samples, Isa::kReference, states, {true, true}, false,
+                         {10, 20, 30, 255}, greater ? 0.0f : 1.0f);
+        for (const int tile : {8, 16, 32, 64, 128}) {
+          bool first = true;
+          std::uint64_t rejected = 0, accepted = 0;
+          for (Isa isa : simd_isas()) {
+            for (const int threads : {1, 2}) {
+              const std::string what = "depth test " + std::to_string(static_cast<int>(test)) +
+                                       ", " + std::to_string(samples) + "x, tile " +
+                                       std::to_string(tile) + (scissored ? ", scissor, " : ", ") +
+                                       mosaic::to_string(isa) + ", " + std::to_string(threads);
+              const MultiResult fast = render_draws(
+                  sc, w, h, samples, isa, states, {true, true}, false, {10, 20, 30, 255},
+                  greater ? 0.0f : 1.0f, nullptr, {.threads = threads, .tile_size = tile});
+              expect_same_multi(ref, fast, what);
+              if (first) {
+                rejected = fast.r.stats.blocks_hiz_rejected;
+                accepted = fast.r.stats.blocks_hiz_accepted;
+                first = false;
+              }
+              EXPECT_EQ(fast.r.stats.blocks_hiz_rejected, rejected) << what;
+              EXPECT_EQ(fast.r.stats.blocks_hiz_accepted, accepted) << what;
+            }
+          }
+          if (tile >= 32) {
+            rejected_wide += rejected;
+            accepted_wide += accepted;
+          }
+        }
+      }
+    }
+    // Wide rows saw every answer (none for kAlways, which tests nothing).
+    const bool always = test == mosaic::DepthTest::kAlways;
+    EXPECT_EQ(rejected_wide > 0, !always) << "depth test " << static_cast<int>(test);
+    EXPECT_EQ(accepted_wide > 0, !always) << "depth test " << static_cast<int>(test);
+  }
+}
+
 // A triangle hidden behind a whole tile is dropped before its blocks are visited, and its
 // rejected blocks are counted from the tile's block rectangles: every block its box meets that
 // holds pixels of the image and of the draw's scissor. The image's last blocks are partial, and

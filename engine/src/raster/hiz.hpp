@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <utility>
@@ -56,6 +57,9 @@ struct BlockDepthRange {
 /// BlockDepthRange::over() for square blocks of kSize pixels, with the same operations in the
 /// same order, so the same values: the terms that depend on the triangle only are made once, and
 /// those of a row of blocks once per row (the block walker calls it for every block it visits).
+template <class A>
+struct HizSimd;
+
 template <int kSize>
 class BlockDepthRows {
  public:
@@ -90,6 +94,8 @@ class BlockDepthRows {
   }
 
  private:
+  template <class A>
+  friend struct HizSimd;  // at() in double lanes
   double base_ = 0, ddx_ = 0, x0_ = 0, abs_base_ = 0, abs_ddx_ = 0, ex_lo_ = 0, ex_hi_ = 0;
 };
 
@@ -170,8 +176,71 @@ template <DepthTest kTest>
 template <class A>
 struct HizSimd : simd::LaneTypes<A> {
   using B = simd::LaneTypes<A>;
+  using B::kDLanes;
   using B::L;
+  using typename B::D;
   using typename B::F;
+  using typename B::M;
+
+  /// Blocks of a row that hierarchical z rejects and accepts: bit j for the row's block j.
+  struct RowClass {
+    std::uint32_t rejected = 0, accepted = 0;
+  };
+  /// hiz_classify() of the n blocks (n <= 32) at px0, px0 + kSize, ... of row `row` (none
+  /// rejected or accepted for DepthTest::kAlways), against
+  /// their bounds zmin[j], zmax[j], with their ranges d.at() clamped to [lo, hi] stored to
+  /// blo[j], bhi[j]: the same operations in double lanes, so the same values and answers. Reads
+  /// and writes whole vectors: zmin, zmax, blo and bhi hold n rounded up to kDLanes floats.
+  template <DepthTest kTest, int kSize>
+  static RowClass classify_row(const BlockDepthRows<kSize>& d,
+                               const typename BlockDepthRows<kSize>::Row& row, int px0, int n,
+                               float lo, float hi, const float* zmin, const float* zmax, float* blo,
+                               float* bhi) {
+    alignas(64) double step[kDLanes];  // each lane's block offset
+    for (int l = 0; l < kDLanes; ++l) step[l] = static_cast<double>(l * kSize);
+    const D lane_dx = D::load_aligned(step) - D(d.x0_);
+    const D dlo(static_cast<double>(lo)), dhi(static_cast<double>(hi));
+    RowClass c;
+    for (int j = 0; j < n; j += kDLanes) {
+      // BlockDepthRows::at(), operation by operation: px0 - x0 is exact either way.
+      const D dx = D(static_cast<double>(px0 + j * kSize)) + lane_dx;
+      const D corner = (D(d.base_) + D(d.ddx_) * dx) + D(row.corner);
+      const D mag =
+          (D(d.abs_base_) + D(d.abs_ddx_) * xsimd::max(xsimd::abs(dx), xsimd::abs(dx + D(kSize)))) +
+          D(row.mag);
+      const D margin = mag * D(BlockDepthRange::kMarginScale);
+      const D zl = M::to_float((corner + D(d.ex_lo_)) - margin);
+      const D zh = M::to_float((corner + D(d.ex_hi_)) + margin);
+      // std::clamp(z, lo, hi): lo below it, hi above it, else z (a NaN stays).
+      const D bl = xsimd::select(zl < dlo, dlo, xsimd::select(dhi < zl, dhi, zl));
+      const D bh = xsimd::select(zh < dlo, dlo, xsimd::select(dhi < zh, dhi, zh));
+      M::narrow(blo + j, bl);
+      M::narrow(bhi + j, bh);
+      if constexpr (kTest != DepthTest::kAlways) {  // kAlways: every block kept, none tested
+        const D bz_min = M::widen(zmin + j), bz_max = M::widen(zmax + j);
+        xsimd::batch_bool<double, A> rej, acc;
+        if constexpr (kTest == DepthTest::kLess) {
+          rej = bl >= bz_max;
+          acc = bh < bz_min;
+        } else if constexpr (kTest == DepthTest::kLessEqual) {
+          rej = bl > bz_max;
+          acc = bh <= bz_min;
+        } else if constexpr (kTest == DepthTest::kGreater) {
+          rej = bh <= bz_min;
+          acc = bl > bz_max;
+        } else if constexpr (kTest == DepthTest::kGreaterEqual) {
+          rej = bh < bz_min;
+          acc = bl >= bz_max;
+        }
+        c.rejected |= M::bits(rej) << j;
+        c.accepted |= M::bits(acc) << j;
+      }
+    }
+    const std::uint32_t in_row = n >= 32 ? ~0u : (1u << n) - 1;
+    c.rejected &= in_row;
+    c.accepted &= in_row & ~c.rejected;
+    return c;
+  }
 
   /// The union of n blocks' bounds (a tile's bounds from its blocks').
   static std::pair<float, float> union_of(const float* zmin, const float* zmax, int n) {

@@ -55,6 +55,10 @@ constexpr int tile_size_for(int samples) {
 static_assert(tile_size_for(1) == 128 && tile_size_for(4) == 128 && tile_size_for(8) == 64 &&
               tile_size_for(16) == 64);
 
+/// The most double lanes of an instruction set mosaic compiles (AVX-512): what a SIMD read of a
+/// row of blocks' bounds may pass its end by, plus one.
+inline constexpr int kHizReadPad = 8;
+
 static_assert(kBlockPixels == 64, "coverage words are 64-bit: one bit per pixel of a block");
 
 // A block's S samples per pixel lie pixel-major in the tile's sample memory: sample s of pixel p
@@ -248,8 +252,10 @@ struct TileScratch {
       static_cast<std::uint32_t*>(std::aligned_alloc(64, kValues * sizeof(std::uint32_t)))};
   std::unique_ptr<float[], Free> depth{
       static_cast<float*>(std::aligned_alloc(64, kValues * sizeof(float)))};
-  alignas(64) float zmin[kMaxBlocksPerTile];  ///< hierarchical z: nearest depth in the block
-  alignas(64) float zmax[kMaxBlocksPerTile];  ///< hierarchical z: farthest depth in the block
+  /// Hierarchical z: the nearest and farthest depth in each block. A row of blocks is read a
+  /// vector of double lanes at a time, up to kHizReadPad - 1 past its last block.
+  alignas(64) float zmin[kMaxBlocksPerTile + kHizReadPad];
+  alignas(64) float zmax[kMaxBlocksPerTile + kHizReadPad];
   /// Samples written into each block since its bounds were last made exact from its depths.
   alignas(64) std::uint32_t hiz_written[kMaxBlocksPerTile];
   /// A depth-only draw's triangle that covers a whole block and passes hierarchical z there

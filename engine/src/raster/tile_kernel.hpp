@@ -7,7 +7,8 @@
 //   1. trivial reject / accept of the block from the edge functions at its corners (int64,
 //      stepped from block to block along a row);
 //   2. hierarchical z (raster/hiz.hpp): reject the block if the triangle is entirely behind it,
-//      or skip the per-sample depth test if it is entirely in front;
+//      or skip the per-sample depth test if it is entirely in front (a row of three or more
+//      blocks is classified at once, in double lanes: HizSimd::classify_row());
 //   3. coverage: one bit per sample of the block, in the order of its sample memory (pixel-major,
 //      raster/tile.hpp: a vector holds every sample of a few pixels), from SIMD int32 edge
 //      functions stepped from the block corner a row at a time (exact: the corner value is
@@ -594,35 +595,15 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       for (int e = 0; e < 3; ++e)
         erow[e] = a[e] * ((std::int64_t{tile.x0} + std::int64_t{row_b} * kBlockSize) * kSubpixel) +
                   b[e] * (std::int64_t{py0} * kSubpixel) + t.edge[e].c;
-      for (int bx = row_b; bx < row_e; ++bx) {
+      // 3-5 for block bx of the row, which no edge rejects and hierarchical z keeps: its cover,
+      // its edges at the corner, whether each holds over all of the block and whether their values
+      // over it fit int32, its depth range, and whether its samples need the depth test.
+      const auto draw_block = [&](int bx, std::uint64_t inside, const std::int64_t(&eorg)[3],
+                                  bool all_in, bool fits32, float blo, float bhi, bool test)
+          __attribute__((always_inline)) {
         const int blk = by * cx.side + bx;
-        const std::uint64_t inside = cx.cover[blk];
-        // 1. Edge functions at the block's corner, and their extremes over the block: an edge
-        // rejects the block before anything else is computed for it.
-        std::int64_t eorg[3];
-        bool all_in = true, fits32 = true, outside = false;
-        for (int e = 0; e < 3; ++e) {
-          eorg[e] = erow[e];
-          erow[e] += estep[e];
-          const std::int64_t lo = eorg[e] + elo[e], hi = eorg[e] + ehi[e];
-          outside |= hi < 0;
-          all_in &= lo >= 0;
-          fits32 &= lo >= std::numeric_limits<std::int32_t>::min() &&
-                    hi <= std::numeric_limits<std::int32_t>::max();
-        }
-        if (outside || !inside) continue;
         const int px0 = tile.x0 + bx * kBlockSize;
 
-        // 2. Hierarchical z, with the triangle's depth range over this block (its box's, if small).
-        const auto [blo, bhi] = small_box ? std::pair<float, float>{rlo, rhi}
-                                          : block_depth.at(px0, depth_row, tlo, thi);
-        const int hz = hiz_classify<kTest>(blo, bhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
-        if (hz < 0) {
-          ++cx.st.blocks_hiz_rejected;
-          continue;
-        }
-        const bool test = hz == 0;
-        if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
         if constexpr (kPlanes) {
           // Every sample of the block covered and passing: the plane instead of the samples,
           // with the counts and bounds the depth loop would give.
@@ -632,7 +613,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             cx.st.samples_tested += n;
             cx.st.samples_written += n;
             keep_block_bounds<kTest>(cx, blk, S, n, n, blo, bhi, small_box);
-            continue;
+            return;
           }
           if (cx.sc.plane_pending[blk]) take_plane(cx, blk);
         }
@@ -751,8 +732,81 @@ struct TileKernelImpl : simd::LaneTypes<A> {
 
         if (kWrite && written)
           keep_block_bounds<kTest>(cx, blk, S, covered, written, blo, bhi, small_box);
+      };
+      const int row_n = row_e - row_b;
+      if (!small_box && row_n > 2) {
+        // Three or more blocks, so all three edges cut the row above and none rejects a block
+        // of it: hierarchical z classifies the blocks with pixels to cover in SIMD lanes, and
+        // only those it keeps are visited.
+        const std::uint32_t cand = cover_in_row(cx, by, row_b, row_e);
+        if (!cand) continue;
+        const int j0 = std::countr_zero(cand), j1 = 32 - std::countl_zero(cand);
+        const int first = by * cx.side + row_b;
+        alignas(64) float row_lo[kMaxBlocksPerTileSide + kHizReadPad];
+        alignas(64) float row_hi[kMaxBlocksPerTileSide + kHizReadPad];
+        const auto rc = HizSimd<A>::template classify_row<kTest>(
+            block_depth, depth_row, tile.x0 + (row_b + j0) * kBlockSize, j1 - j0, tlo, thi,
+            cx.sc.zmin + first + j0, cx.sc.zmax + first + j0, row_lo + j0, row_hi + j0);
+        const std::uint32_t rejected = (rc.rejected << j0) & cand;
+        const std::uint32_t accepted = (rc.accepted << j0) & cand;
+        cx.st.blocks_hiz_rejected += static_cast<std::uint64_t>(std::popcount(rejected));
+        cx.st.blocks_hiz_accepted += static_cast<std::uint64_t>(std::popcount(accepted));
+        for (std::uint32_t visit = cand & ~rejected; visit; visit &= visit - 1) {
+          const int j = std::countr_zero(visit);
+          std::int64_t eorg[3];
+          bool all_in = true, fits32 = true;
+          for (int e = 0; e < 3; ++e) {
+            eorg[e] = erow[e] + j * estep[e];
+            const std::int64_t lo = eorg[e] + elo[e], hi = eorg[e] + ehi[e];
+            all_in &= lo >= 0;
+            fits32 &= lo >= std::numeric_limits<std::int32_t>::min() &&
+                      hi <= std::numeric_limits<std::int32_t>::max();
+          }
+          draw_block(row_b + j, cx.cover[first + j], eorg, all_in, fits32, row_lo[j], row_hi[j],
+                     kTest != DepthTest::kAlways && !(accepted >> j & 1u));
+        }
+        continue;
+      }
+      for (int bx = row_b; bx < row_e; ++bx) {
+        const int blk = by * cx.side + bx;
+        const std::uint64_t inside = cx.cover[blk];
+        // 1. Edge functions at the block's corner, and their extremes over the block: an edge
+        // rejects the block before anything else is computed for it.
+        std::int64_t eorg[3];
+        bool all_in = true, fits32 = true, outside = false;
+        for (int e = 0; e < 3; ++e) {
+          eorg[e] = erow[e];
+          erow[e] += estep[e];
+          const std::int64_t lo = eorg[e] + elo[e], hi = eorg[e] + ehi[e];
+          outside |= hi < 0;
+          all_in &= lo >= 0;
+          fits32 &= lo >= std::numeric_limits<std::int32_t>::min() &&
+                    hi <= std::numeric_limits<std::int32_t>::max();
+        }
+        if (outside || !inside) continue;
+        // 2. Hierarchical z, with the triangle's depth range over this block (its box's, if small).
+        const auto [blo, bhi] =
+            small_box ? std::pair<float, float>{rlo, rhi}
+                      : block_depth.at(tile.x0 + bx * kBlockSize, depth_row, tlo, thi);
+        const int hz = hiz_classify<kTest>(blo, bhi, cx.sc.zmin[blk], cx.sc.zmax[blk]);
+        if (hz < 0) {
+          ++cx.st.blocks_hiz_rejected;
+          continue;
+        }
+        const bool test = hz == 0;
+        if (!test && kTest != DepthTest::kAlways) ++cx.st.blocks_hiz_accepted;
+        draw_block(bx, inside, eorg, all_in, fits32, blo, bhi, test);
       }
     }
+  }
+
+  // Blocks [row_b, row_e) of block row `by` whose cover is not empty: bit bx - row_b each.
+  [[gnu::always_inline]] static std::uint32_t cover_in_row(const Context& cx, int by, int row_b,
+                                                           int row_e) {
+    const typename Context::BlockRect& c = cx.cover_blocks;
+    if (by < c.y0 || by >= c.y1) return 0;
+    const int lo = std::max(row_b, c.x0) - row_b, hi = std::min(row_e, c.x1) - row_b;
+    return lo < hi ? ((1u << hi) - 1u) & ~((1u << lo) - 1u) : 0u;
   }
 
   /// A triangle's box cut to a tile: pixels [x_lo, x_hi) × [y_lo, y_hi) (empty if either is),
