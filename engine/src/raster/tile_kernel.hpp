@@ -258,9 +258,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   }
   template <class K>
   static Kernel kernel() {
-    // Boxes within 2×2 blocks: small_box() for depth-only draws at one sample and for flat and
-    // interpolated colour in the default depth state at 1x and 4x; the block walker's small-box
-    // form where the traits fix several samples otherwise (shaded draws at 4x).
+    // Boxes within 2×2 blocks: small_box() for depth-only draws at one sample and for flat,
+    // interpolated and shaded colour in the default depth state at 1x and 4x; the block walker's
+    // small-box form where the traits fix several samples otherwise.
     constexpr Walk kSmall = K::kSamples > 1 ? Walk::kSmallBox : Walk::kBlocks;
     // A shader that discards writes depth after shading, which only the block walker does.
     if constexpr (K::kLateZ)
@@ -270,7 +270,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
               &depth_only_walker<K, &small_box<K>>};
     else if constexpr (K::kOneSample && K::kColor == ColorMode::kNone)
       return {&triangle_impl<K>, &pixel_impl<K>, &small_box<K>};
-    else if constexpr ((K::kSamples == 1 || K::kSamples == 4) && !K::kSsaa && !K::kGeneric &&
+    else if constexpr ((K::kSamples == 1 || K::kSamples == 4) && !K::kSsaa &&
                        K::kTest == DepthTest::kLess && K::kWrite)  // the default depth state
       return {&triangle_impl<K>, &pixel_impl<K>, &small_box<K>};
     else if constexpr (kUsesPlanes<K>)
@@ -322,18 +322,19 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   }
 
   // The lean small-box walker, for a box within 2×2 blocks at a fixed 1 or 4 samples (depth-only
-  // draws at one sample, the occluder pass, and flat and interpolated colour): per block the
-  // block walker's corner test, hierarchical z, coverage (of the box's rows only, at 4x),
-  // depth test, colour, counters and bounds, without its machinery for larger boxes (row
-  // rejects, per-block depth ranges), run-time sample counts and shaders. A depth-only draw
-  // that writes depth reaches it through depth_only_walker().
+  // draws at one sample, the occluder pass, and flat, interpolated and shaded colour): per block
+  // the block walker's corner test, hierarchical z, coverage (of the box's rows only, at 4x),
+  // depth test, colour or the shading queue, counters and bounds, without its machinery for
+  // larger boxes (row rejects, per-block depth ranges), run-time sample counts and late depth
+  // writes. A depth-only draw that writes depth reaches it through depth_only_walker().
   template <class K>
   [[gnu::noinline]] static void small_box(Context& cx, const front::TriangleSetup& t) {
-    static_assert((K::kSamples == 1 || K::kSamples == 4) && !K::kSsaa && !K::kGeneric);
+    static_assert((K::kSamples == 1 || K::kSamples == 4) && !K::kSsaa && !K::kLateZ);
     constexpr int S = K::kSamples;
     constexpr DepthTest kTest = K::kTest;
     constexpr bool kFlat = K::kColor == ColorMode::kFlat;
     constexpr bool kInterpolated = K::kColor == ColorMode::kInterpolated;
+    constexpr bool kGeneric = K::kGeneric;
     const TileRect& tile = cx.tile;
     const auto [x_lo, x_hi, y_lo, y_hi, bxb, bxe, byb, bye] = box_in_tile(t, tile);
     if (x_lo >= x_hi || y_lo >= y_hi) return;
@@ -436,6 +437,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         [[maybe_unused]] I pixel_color[kVectors];
         [[maybe_unused]] std::uint32_t shaded = 0;
         std::uint64_t covered = 0, written = 0;
+        // Shaded draws: the lanes of each sample that passed, queued for shading after (as the
+        // block walker keeps them: at least a vector of words).
+        [[maybe_unused]] std::uint64_t passed[kGeneric ? std::max(S, L / 2) : 1];
+        if constexpr (kGeneric) std::fill_n(passed, std::max(S, L / 2), std::uint64_t{0});
         for (int w = 0; w < S; ++w) covered += static_cast<std::uint64_t>(std::popcount(cov[w]));
         // The vectors holding a covered sample, in the order of the block's sample memory.
         std::uint64_t act = 0;
@@ -448,10 +453,12 @@ struct TileKernelImpl : simd::LaneTypes<A> {
           const std::uint32_t pass =
               test_and_write_depth<K>(dblk + k * L, z, lanes_of(cov, k), keep);
           written += static_cast<std::uint64_t>(std::popcount(pass));
-          if constexpr (kInterpolated) {
+          if constexpr (kInterpolated || kGeneric) {
             if (!pass) continue;
           }
-          if constexpr (S == 1 && (kFlat || kInterpolated)) {
+          if constexpr (kGeneric) {
+            passed[k / kVectors] |= std::uint64_t{pass} << ((k % kVectors) * L);
+          } else if constexpr (S == 1 && (kFlat || kInterpolated)) {
             // A lane is a pixel: its colour at the pixel centre, made for this vector only.
             I color = flat_color;
             if constexpr (kInterpolated)
@@ -463,6 +470,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             write_color<K>(cx, t, color_planes.data(), flat_color, fx, fy, fx_blk, fy_row, k, pass,
                            cblk, S, pixel_color, shaded);
           }
+        }
+        if constexpr (kGeneric) {
+          if (written) color_generic(cx, t, blk, px0, py0, passed);
         }
         cx.st.samples_tested += covered;
         cx.st.samples_written += written;
