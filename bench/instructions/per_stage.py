@@ -47,8 +47,8 @@ SHARED_HELPERS = re.compile(r"ShadeSimd<[^>]*>::clamp\(")
 KERNEL_FUNCTIONS = re.compile(r"TileKernelImpl<|ShadeSimd<")
 # The functions that draw triangles in a tile (not its clear or resolve), whose instructions the
 # split above divides.
-WALKERS = re.compile(r"::(triangle_impl<|depth_only_walker<|pixel_impl<|take_plane\(|draw_run\(|"
-                     r"draw_nearest_first\(|color_generic\()|ShadeSimd<")
+WALKERS = re.compile(r"::(triangle_impl<|depth_only_walker<|pixel_impl<|small_box<|take_plane\(|"
+                     r"draw_run\(|draw_nearest_first\(|color_generic\()|ShadeSimd<")
 
 
 def self_costs(path, pattern):
