@@ -22,9 +22,9 @@
 // one call of the shader's batch function per batch (not per pixel), then blending per sample.
 // A triangle whose box is a few pixels of one block (setup shrinks a tiny triangle's box to its
 // covered samples) skips the walker: pixel_impl() makes the same tests, writes and counts in
-// scalar code. A box within 2×2 blocks takes the small-box walker (Walk), which evaluates the
-// coverage of only the block rows its box meets; depth-only draws at one sample and flat or
-// interpolated colour draws at 1x and 4x take a lean walker of their own (small_box()).
+// scalar code. A box within 2×2 blocks takes the lean small-box walker (small_box()), which
+// evaluates the coverage of only the block rows its box meets, in depth-only draws at one sample
+// and in flat, interpolated or shaded colour draws at 1x and 4x.
 // A depth-only draw leaves a block that one triangle covers and wins whole as that
 // triangle's depth plane (TileScratch::plane), whose samples are written when something reads
 // them: under overdraw, once instead of once per triangle.
@@ -163,9 +163,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     TriangleFn box = nullptr, pixel = nullptr, small = nullptr;
   };
   /// The forms of the block walker: for any box; the same with depth planes (depth-only draws
-  /// that write depth); for a box within 2×2 blocks, which evaluates coverage only for the
-  /// block rows the box meets (most of a small triangle's blocks are cut by its box).
-  enum class Walk { kBlocks, kPlanes, kSmallBox };
+  /// that write depth).
+  enum class Walk { kBlocks, kPlanes };
 
   /// The rows [r0, r1) of a block that a triangle's box meets. No sample outside the box is
   /// covered, so the other rows' coverage is known to be empty without evaluating it.
@@ -259,12 +258,11 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   template <class K>
   static Kernel kernel() {
     // Boxes within 2×2 blocks: small_box() for depth-only draws at one sample and for flat,
-    // interpolated and shaded colour in the default depth state at 1x and 4x; the block walker's
-    // small-box form where the traits fix several samples otherwise.
-    constexpr Walk kSmall = K::kSamples > 1 ? Walk::kSmallBox : Walk::kBlocks;
+    // interpolated and shaded colour in the default depth state at 1x and 4x (the only states
+    // whose traits fix 4 samples); the block walker otherwise.
     // A shader that discards writes depth after shading, which only the block walker does.
     if constexpr (K::kLateZ)
-      return {&triangle_impl<K>, &triangle_impl<K, kSmall>, &triangle_impl<K, kSmall>};
+      return {&triangle_impl<K>, &triangle_impl<K>, &triangle_impl<K>};
     else if constexpr (K::kOneSample && K::kColor == ColorMode::kNone && kUsesPlanes<K>)
       return {&depth_only_walker<K, &triangle_impl<K>>, &pixel_impl<K>,
               &depth_only_walker<K, &small_box<K>>};
@@ -275,9 +273,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       return {&triangle_impl<K>, &pixel_impl<K>, &small_box<K>};
     else if constexpr (kUsesPlanes<K>)
       return {&depth_only_walker<K, &triangle_impl<K>>, &pixel_impl<K>,
-              &depth_only_walker<K, &triangle_impl<K, kSmall>>};
+              &depth_only_walker<K, &triangle_impl<K>>};
     else
-      return {&triangle_impl<K>, &pixel_impl<K>, &triangle_impl<K, kSmall>};
+      return {&triangle_impl<K>, &pixel_impl<K>, &triangle_impl<K>};
   }
 
   template <DepthTest kTest>
@@ -485,7 +483,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   // The block walker, in one of its forms (Walk).
   template <class K, Walk kWalk = Walk::kBlocks>
   [[gnu::noinline]] static void triangle_impl(Context& cx, const front::TriangleSetup& t) {
-    constexpr bool kPlanes = kWalk == Walk::kPlanes, kSmallBox = kWalk == Walk::kSmallBox;
+    constexpr bool kPlanes = kWalk == Walk::kPlanes;
     constexpr DepthTest kTest = K::kTest;
     constexpr bool kWrite = K::kWrite, kS1 = K::kOneSample;
     constexpr bool kColor = K::kColor != ColorMode::kNone;
@@ -513,7 +511,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     // its blocks instead of computing one range per block: exact output either way, the ranges
     // only decide which work is skipped.
     float rlo = t.z_min, rhi = t.z_max;
-    const bool small_box = kSmallBox || (bxe - bxb <= 2 && bye - byb <= 2);
+    const bool small_box = bxe - bxb <= 2 && bye - byb <= 2;
     if constexpr (kTest != DepthTest::kAlways) {
       // A small box the tile does not cut: its plane range, clamped to the vertices' depths, is
       // at most [z_min, z_max] and rarely narrower, so the double evaluation is skipped.
@@ -595,10 +593,6 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         }
       }
       const F fy_row = F(static_cast<float>(py0));
-      // The block rows the box meets (the small-box walker evaluates coverage for those only).
-      const BoxRows rows = kSmallBox
-                               ? BoxRows{std::max(y_lo - py0, 0), std::min(y_hi - py0, kBlockSize)}
-                               : BoxRows{};
 
       // Edge functions at the corner of block row_b, stepped by one block along the row.
       std::int64_t erow[3];
@@ -670,7 +664,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             if constexpr (!kS1)
               coverage32_rows<K::kSamples>(
                   static_cast<std::int32_t>(c0), static_cast<std::int32_t>(c1),
-                  static_cast<std::int32_t>(c2), roff, row_down, S, rows, cov);
+                  static_cast<std::int32_t>(c2), roff, row_down, S, BoxRows{}, cov);
           } else {
             if (!doff_built) {
               // S passed through an empty asm: GCC (AVX-512) otherwise ran this pure build for
