@@ -1099,7 +1099,7 @@ TEST(FastPath, SmallBoxWalkerMatchesReferenceAtEveryOffsetInABlock) {
       [](const mosaic::Fragment& f) { return glm::vec4(f.varying(0) - std::floor(f.varying(0))); },
       1);
   for (int samples : {1, 4, 8}) {
-    for (int mode = 0; mode < 3; ++mode) {  // per-vertex colour, one colour, shaded
+    for (int mode = 0; mode < 4; ++mode) {  // per-vertex colour, one colour, shaded, blended
       const auto draw_with = [&](Isa isa) {
         mosaic::RenderTarget target(w, h, samples, {true, true});
         target.set_clear({10, 20, 30, 255}, 1.f);
@@ -1110,12 +1110,14 @@ TEST(FastPath, SmallBoxWalkerMatchesReferenceAtEveryOffsetInABlock) {
             mode == 1 ? mosaic::ColorSource::kConstant : mosaic::ColorSource::kPerVertex;
         d.colors = sc.colors;
         d.color = {200, 100, 50, 255};
-        if (mode == 2) {
+        if (mode >= 2) {
           d.attributes = attributes;
           d.attribute_count = 1;
           d.varyings = varyings;
           d.shader = shader;
         }
+        // The shader's alpha is its varying's fraction: blending reads what the queue wrote.
+        if (mode == 3) d.state.blend = mosaic::BlendMode::kSourceOver;
         const mosaic::Draw draws[] = {d};
         mosaic::Frame frame;
         frame.draws = draws;
