@@ -1099,37 +1099,41 @@ TEST(FastPath, SmallBoxWalkerMatchesReferenceAtEveryOffsetInABlock) {
       [](const mosaic::Fragment& f) { return glm::vec4(f.varying(0) - std::floor(f.varying(0))); },
       1);
   for (int samples : {1, 4, 8}) {
-    for (int mode = 0; mode < 4; ++mode) {  // per-vertex colour, one colour, shaded, blended
-      const auto draw_with = [&](Isa isa) {
-        mosaic::RenderTarget target(w, h, samples, {true, true});
-        target.set_clear({10, 20, 30, 255}, 1.f);
-        mosaic::Draw d;
-        d.space = mosaic::Space::kScreen;
-        d.positions = sc.positions;
-        d.color_source =
-            mode == 1 ? mosaic::ColorSource::kConstant : mosaic::ColorSource::kPerVertex;
-        d.colors = sc.colors;
-        d.color = {200, 100, 50, 255};
-        if (mode >= 2) {
-          d.attributes = attributes;
-          d.attribute_count = 1;
-          d.varyings = varyings;
-          d.shader = shader;
-        }
-        // The shader's alpha is its varying's fraction: blending reads what the queue wrote.
-        if (mode == 3) d.state.blend = mosaic::BlendMode::kSourceOver;
-        const mosaic::Draw draws[] = {d};
-        mosaic::Frame frame;
-        frame.draws = draws;
-        mosaic::Renderer r({.threads = 2, .isa = isa});
-        return mosaic::test::capture(r, frame, target);
-      };
-      const Result ref = draw_with(Isa::kReference);
-      for (Isa isa : simd_isas())
-        expect_same(ref, draw_with(isa),
-                    "small boxes, mode " + std::to_string(mode) + " " + std::to_string(samples) +
-                        "x " + mosaic::to_string(isa));
-    }
+    // Per-vertex colour, one colour, shaded, shaded and blended; at 4x also under SSAA.
+    for (int mode = 0; mode < 4; ++mode)
+      for (const bool ssaa : {false, true}) {
+        if (ssaa && samples != 4) continue;
+        const auto draw_with = [&](Isa isa) {
+          mosaic::RenderTarget target(w, h, samples, {true, true});
+          target.set_clear({10, 20, 30, 255}, 1.f);
+          mosaic::Draw d;
+          d.space = mosaic::Space::kScreen;
+          d.positions = sc.positions;
+          d.color_source =
+              mode == 1 ? mosaic::ColorSource::kConstant : mosaic::ColorSource::kPerVertex;
+          d.colors = sc.colors;
+          d.color = {200, 100, 50, 255};
+          if (mode >= 2) {
+            d.attributes = attributes;
+            d.attribute_count = 1;
+            d.varyings = varyings;
+            d.shader = shader;
+          }
+          // The shader's alpha is its varying's fraction: blending reads what the queue wrote.
+          if (mode == 3) d.state.blend = mosaic::BlendMode::kSourceOver;
+          const mosaic::Draw draws[] = {d};
+          mosaic::Frame frame;
+          frame.draws = draws;
+          frame.ssaa = ssaa;
+          mosaic::Renderer r({.threads = 2, .isa = isa});
+          return mosaic::test::capture(r, frame, target);
+        };
+        const Result ref = draw_with(Isa::kReference);
+        for (Isa isa : simd_isas())
+          expect_same(ref, draw_with(isa),
+                      "small boxes, mode " + std::to_string(mode) + " " + std::to_string(samples) +
+                          "x" + (ssaa ? " ssaa " : " ") + mosaic::to_string(isa));
+      }
     // Depth-only draws that write depth (the walker with depth planes beside the small-box one)
     // and a colour draw over them.
     std::vector<mosaic::DrawState> states(3);
