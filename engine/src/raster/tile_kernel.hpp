@@ -435,10 +435,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         [[maybe_unused]] I pixel_color[kVectors];
         [[maybe_unused]] std::uint32_t shaded = 0;
         std::uint64_t covered = 0, written = 0;
-        // Shaded draws: the lanes of each sample that passed, queued for shading after (as the
-        // block walker keeps them: at least a vector of words).
-        [[maybe_unused]] std::uint64_t passed[kGeneric ? std::max(S, L / 2) : 1];
-        if constexpr (kGeneric) std::fill_n(passed, std::max(S, L / 2), std::uint64_t{0});
+        // Shaded draws: the lanes of each sample that passed, queued for shading after.
+        [[maybe_unused]] std::uint64_t passed[kGeneric ? passed_words(S) : 1];
+        if constexpr (kGeneric) std::fill_n(passed, passed_words(S), std::uint64_t{0});
         for (int w = 0; w < S; ++w) covered += static_cast<std::uint64_t>(std::popcount(cov[w]));
         // The vectors holding a covered sample, in the order of the block's sample memory.
         std::uint64_t act = 0;
@@ -455,7 +454,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             if (!pass) continue;
           }
           if constexpr (kGeneric) {
-            passed[k / kVectors] |= std::uint64_t{pass} << ((k % kVectors) * L);
+            add_lanes(passed, k, pass);
           } else if constexpr (S == 1 && (kFlat || kInterpolated)) {
             // A lane is a pixel: its colour at the pixel centre, made for this vector only.
             I color = flat_color;
@@ -638,11 +637,10 @@ struct TileKernelImpl : simd::LaneTypes<A> {
         const F fx_blk = F(static_cast<float>(px0));
         [[maybe_unused]] I pixel_color[kVectors];
         [[maybe_unused]] std::uint32_t shaded = 0;
-        // Generic draws: the lanes of each sample that passed the depth test, coloured after. At
-        // least a vector of it is set, since shading may load a vector of its words.
+        // Generic draws: the lanes of each sample that passed the depth test, coloured after.
         [[maybe_unused]] std::uint64_t passed[kGeneric ? kMaxSamples : 1];
         static_assert(!kGeneric || L / 2 <= kMaxSamples);
-        if constexpr (kGeneric) std::fill_n(passed, std::max(S, L / 2), std::uint64_t{0});
+        if constexpr (kGeneric) std::fill_n(passed, passed_words(S), std::uint64_t{0});
         // A block the hierarchical z accepts passes every covered sample without the test.
         const std::uint32_t keep = test ? 0u : kLaneBits;
         std::uint64_t written = 0, covered = 0;
@@ -705,7 +703,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
               if (!pass) continue;
             }
             if constexpr (kGeneric) {
-              passed[k / kVectors] |= std::uint64_t{pass} << ((k % kVectors) * L);
+              add_lanes(passed, k, pass);
             } else if constexpr (kColor) {  // a depth-only draw shades nothing, keeps colour
               write_color<K>(cx, t, color_planes.data(), flat_color, fx, fy, fx_blk, fy_row, k,
                              pass, cblk, S, pixel_color, shaded);
@@ -962,7 +960,7 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     [[maybe_unused]] bool queued = false;
     if constexpr (K::kGeneric) {
       queued = Sh::queues(cx.f.shading[t.draw()]) && !cx.f.ssaa;
-      if (!queued) std::fill_n(passed, std::max(S, L / 2), std::uint64_t{0});
+      if (!queued) std::fill_n(passed, passed_words(S), std::uint64_t{0});
     }
     const auto pixel = [&](int col, int row) {
       const std::uint32_t kept =
@@ -1149,6 +1147,13 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     return ~outside;
   }
 
+  // Words of a block's passed lanes that color_generic() reads: one a sample, and at least a
+  // vector of them, since shading may load a vector of its words.
+  static constexpr int passed_words(int S) { return std::max(S, L / 2); }
+  // Sets `lanes` in vector k of a block's words, laid out as lanes_of() reads them.
+  static void add_lanes(std::uint64_t* words, std::size_t k, std::uint32_t lanes) {
+    words[k / kVectors] |= std::uint64_t{lanes} << ((k % kVectors) * L);
+  }
   // Lanes of vector k of a block's coverage words, counting vectors across samples: bits
   // k * L .. k * L + L - 1 of the words laid end to end (little-endian), one load.
   static std::uint32_t lanes_of(const std::uint64_t* cov, std::size_t k) {
