@@ -1199,3 +1199,51 @@ TEST(FastPath, DepthOnlySmallBoxWalkerAtOneSampleMatchesReference) {
                             mosaic::to_string(isa));
   }
 }
+
+// Needles whose boxes span three or more blocks take the block walker, which from 8 samples on
+// evaluates coverage only over the block rows that no single edge excludes: needles
+// along each axis and diagonal and at shallow and steep slopes, 0.3 to 3 px wide, their corners
+// on the 1/16 px grid (edges through sample rows and columns: the fill rule decides those
+// samples) or anywhere on the 1/256 px one. Every sample count above one, the default depth
+// state (kernels that fix the count) and others (the frame's count), a depth-only draw, MSAA
+// and SSAA: as the reference, on every SIMD path.
+TEST(FastPath, BlockWalkerRowTestMatchesReferenceOnNeedles) {
+  const int w = 160, h = 120;
+  Rng rng{113};
+  TestScene sc;
+  const double directions[][2] = {{1, 0},  {0, 1},  {1, 1},  {1, -1},
+                                  {64, 1}, {1, 64}, {16, 3}, {3, -16}};
+  const double widths[] = {0.3, 0.75, 1.5, 3.0};
+  for (const auto& dir : directions)
+    for (int i = 0; i < 16; ++i) {
+      const double grid = i % 2 == 0 ? 16.0 : 256.0;
+      const auto snap = [&](double v) { return static_cast<float>(std::round(v * grid) / grid); };
+      const double len = std::hypot(dir[0], dir[1]);
+      const double ux = dir[0] / len, uy = dir[1] / len;
+      const double length = rng.uniform(20, 100), width = widths[i % 4];
+      const double cx = rng.uniform(50, w - 50), cy = rng.uniform(50, h - 50);
+      const double apex = rng.uniform(-0.8, 0.8) * length / 2;
+      const float z = static_cast<float>(rng.uniform(0.1, 0.9));
+      const glm::vec4 p[3] = {
+          {snap(cx - ux * length / 2), snap(cy - uy * length / 2), z, 1},
+          {snap(cx + ux * length / 2), snap(cy + uy * length / 2), z + 0.05f, 1},
+          {snap(cx + ux * apex - uy * width), snap(cy + uy * apex + ux * width), z - 0.05f, 1}};
+      for (const glm::vec4& v : p) {
+        sc.positions.push_back(v);
+        sc.colors.push_back({rng.byte(), rng.byte(), rng.byte(), 255});
+      }
+    }
+  std::vector<mosaic::DrawState> states(3);
+  states[1].depth_test = mosaic::DepthTest::kLessEqual;
+  states[2].color_write = false;
+  for (int samples : {1, 4, 8, 16})
+    for (const bool ssaa : {false, true}) {
+      if (ssaa && samples != 4) continue;
+      const MultiResult ref =
+          render_draws(sc, w, h, samples, Isa::kReference, states, {true, true}, ssaa);
+      for (Isa isa : simd_isas())
+        expect_same_multi(ref, render_draws(sc, w, h, samples, isa, states, {true, true}, ssaa),
+                          "needles, " + std::to_string(samples) + "x" + (ssaa ? " ssaa " : " ") +
+                              mosaic::to_string(isa));
+    }
+}

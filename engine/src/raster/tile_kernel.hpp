@@ -13,7 +13,8 @@
 //      raster/tile.hpp: a vector holds every sample of a few pixels), from SIMD int32 edge
 //      functions stepped from the block corner a row at a time (exact: the corner value is
 //      int64, and a block whose values could leave int32 is evaluated in double lanes, exact for
-//      integers below 2^53);
+//      integers below 2^53); from 8 samples on only over the block rows that no single edge
+//      excludes whole (one vector test per block: a thin triangle reaches a few rows of a block);
 //   4. depth (float plane, the same operations as the reference) and the per-sample test;
 //   5. colour (shade/shade_simd.hpp): once per pixel (MSAA) or per sample (SSAA), written where
 //      the test passed.
@@ -553,6 +554,14 @@ struct TileKernelImpl : simd::LaneTypes<A> {
       for (int j = 0; j < row_vectors; ++j) roff[e][j] = as * cx.rx[j] + bs * cx.ry[j];
       row_down[e] = I(static_cast<std::int32_t>(b[e] * kSubpixel));
     }
+    // From kRowTestSamples samples on, coverage is evaluated only over the block rows whose
+    // samples no single edge excludes (a thin triangle's blocks hold a few of their rows), from
+    // each edge's largest value over row r's samples in lane r (rows_reached()).
+    const bool row_test =
+        !kS1 && (K::kSamples == 0 || K::kSamples >= kRowTestSamples) && S >= kRowTestSamples;
+    [[maybe_unused]] RowMaxima row_max[3];
+    if (row_test)
+      for (int e = 0; e < 3; ++e) row_max[e] = row_maxima(cx, a[e], b[e], S);
     // Offsets of the edges from a block's corner to its pixels in double, for blocks whose values
     // could leave int32 (see coverage_f64); built for the first such block only.
     D doff[3][kDOffsets];
@@ -662,7 +671,8 @@ struct TileKernelImpl : simd::LaneTypes<A> {
             if constexpr (!kS1)
               coverage32_rows<K::kSamples>(
                   static_cast<std::int32_t>(c0), static_cast<std::int32_t>(c1),
-                  static_cast<std::int32_t>(c2), roff, row_down, S, BoxRows{}, cov);
+                  static_cast<std::int32_t>(c2), roff, row_down, S,
+                  row_test ? rows_reached(c0, c1, c2, row_max) : BoxRows{}, cov);
           } else {
             if (!doff_built) {
               // S passed through an empty asm: GCC (AVX-512) otherwise ran this pure build for
@@ -1171,6 +1181,42 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     }
   }
 
+  // The sample count from which the block walker tests a block's rows before its coverage: a
+  // row of 8 or 16 samples is 8 vectors or more (AVX2), which outweighs the mispredicted exit
+  // of a loop over the rows a block needs; at 4x the two cost about the same.
+  static constexpr int kRowTestSamples = 8;
+  // Vectors holding one lane per row of a block (lane r: row r; lanes past the block unused).
+  static constexpr int kRowLaneVectors = (kBlockSize + L - 1) / L;
+  // An edge's largest value over each block row's samples, from the block's corner: lane r holds
+  // b * 256 * r plus the row's largest a * x + b * y (x, y: a sample's offset from the row's
+  // corner), mod 2^32 like the coverage offsets.
+  using RowMaxima = std::array<I, kRowLaneVectors>;
+  static RowMaxima row_maxima(const Context& cx, std::int64_t a, std::int64_t b, int S) {
+    std::int64_t m = std::numeric_limits<std::int64_t>::min();
+    for (int s = 0; s < S; ++s) m = std::max(m, a * cx.soff[0][s] + b * cx.soff[1][s]);
+    m += std::max<std::int64_t>(0, a * (kBlockSize - 1) * kSubpixel);
+    alignas(64) std::int32_t lanes[kRowLaneVectors * L];
+    for (int r = 0; r < kRowLaneVectors * L; ++r)
+      lanes[r] = static_cast<std::int32_t>(static_cast<std::uint32_t>(m + b * kSubpixel * r));
+    RowMaxima v;
+    for (int j = 0; j < kRowLaneVectors; ++j) v[j] = I::load_aligned(lanes + j * L);
+    return v;
+  }
+  // The rows [r0, r1) of a block, corner edge values c0..c2 (exact in int32: it fits32), outside
+  // which no edge holds at any sample of a row: those rows' coverage is empty.
+  static BoxRows rows_reached(std::uint32_t c0, std::uint32_t c1, std::uint32_t c2,
+                              const RowMaxima (&row_max)[3]) {
+    const I v0(static_cast<std::int32_t>(c0)), v1(static_cast<std::int32_t>(c1)),
+        v2(static_cast<std::int32_t>(c2));
+    std::uint32_t out = 0;
+    for (int j = 0; j < kRowLaneVectors; ++j)
+      out |= M::signs((v0 + row_max[0][j]) | (v1 + row_max[1][j]) | (v2 + row_max[2][j]))
+             << (j * L);
+    const std::uint32_t live = ~out & ((1u << kBlockSize) - 1);
+    if (!live) return {0, 0};
+    return {std::countr_zero(live), 32 - std::countl_zero(live)};
+  }
+
   // Bit v set where vector v of a coverage word (lanes v * L .. v * L + L - 1) has a lane set.
   static std::uint32_t vectors_with_lanes(std::uint64_t m) { return M::nonzero_groups(m); }
 
@@ -1186,9 +1232,9 @@ struct TileKernelImpl : simd::LaneTypes<A> {
   // (little-endian, end to end) set where lane g's sample is inside, as coverage32() does it. A
   // block row is 8 * S lanes in 8 * S / L vectors (roff: their lanes' offsets
   // from the row's corner); the values step down a row at a time (down).
-  // A kernel whose traits fix the sample count has the rows inline, and evaluates only the rows
-  // of `rows` (the others come out 0); the others call one copy per instruction set that picks
-  // the count, not one copy of every count per kernel, and evaluate every row.
+  // Only the rows of `rows` are evaluated (the others come out 0). A kernel whose traits fix the
+  // sample count has the rows inline; the others call one copy per instruction set that picks
+  // the count, not one copy of every count per kernel.
   template <int kFixed>
   [[gnu::always_inline]] static void coverage32_rows(std::int32_t c0, std::int32_t c1,
                                                      std::int32_t c2,
@@ -1198,21 +1244,22 @@ struct TileKernelImpl : simd::LaneTypes<A> {
     if constexpr (kFixed > 1)
       coverage32_rows_of<kFixed>(I(c0), I(c1), I(c2), roff, down, rows, cov);
     else
-      coverage32_rows_any(c0, c1, c2, roff, down, S, cov);
+      coverage32_rows_any(c0, c1, c2, roff, down, S, rows, cov);
   }
   [[gnu::noinline]] static void coverage32_rows_any(std::int32_t c0, std::int32_t c1,
                                                     std::int32_t c2,
                                                     const I (&roff)[3][kRowVectors],
-                                                    const I (&down)[3], int S, std::uint64_t* cov) {
+                                                    const I (&down)[3], int S, BoxRows rows,
+                                                    std::uint64_t* cov) {
     switch (S) {
       case 2:
-        return coverage32_rows_of<2>(I(c0), I(c1), I(c2), roff, down, {}, cov);
+        return coverage32_rows_of<2>(I(c0), I(c1), I(c2), roff, down, rows, cov);
       case 4:
-        return coverage32_rows_of<4>(I(c0), I(c1), I(c2), roff, down, {}, cov);
+        return coverage32_rows_of<4>(I(c0), I(c1), I(c2), roff, down, rows, cov);
       case 8:
-        return coverage32_rows_of<8>(I(c0), I(c1), I(c2), roff, down, {}, cov);
+        return coverage32_rows_of<8>(I(c0), I(c1), I(c2), roff, down, rows, cov);
       default:
-        return coverage32_rows_of<16>(I(c0), I(c1), I(c2), roff, down, {}, cov);
+        return coverage32_rows_of<16>(I(c0), I(c1), I(c2), roff, down, rows, cov);
     }
   }
   // The same for a fixed count: every row of a block unrolls; the rows of a part of one loop.
